@@ -1,0 +1,2 @@
+//! ULog core (being written).
+pub mod typed;

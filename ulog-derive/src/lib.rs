@@ -1,0 +1,1 @@
+//! Derive macros for ULog topic bindings (see the typed-bindings issue); empty until then.

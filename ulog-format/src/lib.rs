@@ -1,0 +1,44 @@
+//! The grammar and layout model of ULog format strings.
+//!
+//! A ULog `F` message defines a message type as text:
+//! `vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;`.
+//! This crate parses that text into a [`Format`] (the grammar, in [`parse`](mod@parse))
+//! and resolves a format with the nested formats it uses into a [`Layout`]: the
+//! offset, size and path of every field, with nested types laid out with their own
+//! padding (in [`layout`](mod@layout)).
+//!
+//! It is the one model shared by the reader (`ulog-core`, at run time) and the derive
+//! macros (`ulog-derive`, at compile time), so it has no dependencies.
+//!
+//! ```
+//! use ulog_format::{BasicType, Format, Layout, LayoutType};
+//!
+//! let esc = Format::parse("esc_report:uint64_t timestamp;int32_t esc_rpm;uint8_t[4] _padding0;").unwrap();
+//! let status = Format::parse("esc_status:uint64_t timestamp;esc_report[2] esc;").unwrap();
+//! let formats = [esc, status];
+//! let layout = Layout::resolve("esc_status", &formats[..]).unwrap();
+//! assert_eq!(layout.size(), 8 + 2 * 16);
+//! let rpm = layout.find("esc[1].esc_rpm").unwrap();
+//! assert_eq!(rpm.offset, 8 + 16 + 8);
+//! assert_eq!(rpm.ty, LayoutType::Basic(BasicType::Int32));
+//! ```
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod basic;
+mod error;
+pub mod layout;
+pub mod parse;
+
+pub use basic::BasicType;
+pub use error::{FormatError, FormatErrorKind, LayoutError, LayoutErrorKind};
+pub use layout::{
+    FieldRef, FormatLookup, Layout, LayoutField, LayoutType, Leaf, LeafKind, Limits, Resolver,
+};
+pub use parse::{parse_field, Field, Format, Span, TypeName};
+
+/// Whether a field name marks padding: names starting with `_padding` are never
+/// shown as values and their bytes are ignored.
+pub fn is_padding_name(name: &str) -> bool {
+    name.starts_with("_padding")
+}
