@@ -1,1 +1,130 @@
-//! Shared helpers of the integration tests.
+//! Helpers shared by the integration tests: where the shared corpus of real logs is,
+//! and how pyulog's expected outputs compare with ours.
+
+use std::path::{Path, PathBuf};
+
+use ulog_core::Value;
+
+/// The shared corpus (`../shared/corpus` beside the workspace), or `ULOG_CORPUS` if
+/// set. `None` when absent: tests then say they skipped.
+pub fn corpus_dir() -> Option<PathBuf> {
+    let dir = match std::env::var_os("ULOG_CORPUS") {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus"),
+    };
+    dir.join("files").is_dir().then_some(dir)
+}
+
+/// Every `.ulg` file of the corpus, sorted by name; prints a skip note and returns an
+/// empty list when the corpus is absent.
+pub fn corpus_files(test: &str) -> Vec<PathBuf> {
+    let Some(dir) = corpus_dir() else {
+        eprintln!("{test}: SKIPPED, no shared corpus (../shared/corpus or ULOG_CORPUS)");
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("files"))
+        .expect("corpus files dir")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ulg"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The file stem (`sample` for `sample.ulg`).
+pub fn stem(path: &Path) -> String {
+    path.file_stem()
+        .expect("file name")
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// pyulog's `summary.json` for a corpus file.
+pub fn expected_summary(path: &Path) -> serde_json::Value {
+    let dir = corpus_dir().expect("corpus");
+    let p = dir.join("expected").join(stem(path)).join("summary.json");
+    let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    serde_json::from_str(&text).expect("summary.json parses")
+}
+
+/// Whether a value printed by pyulog (CSV cell) equals ours. Floats compare by value
+/// (pyulog prints a float32 in its shortest form), `nan` equals `nan`; strings as
+/// pyulog's `ulog2csv` reads them: up to the first NUL, one character per byte.
+pub fn cell_matches(expected: &str, ours: &Value) -> bool {
+    match ours {
+        Value::F32(v) => match expected.parse::<f32>() {
+            Ok(e) => (e.is_nan() && v.is_nan()) || e == *v,
+            Err(_) => false,
+        },
+        Value::F64(v) => match expected.parse::<f64>() {
+            Ok(e) => (e.is_nan() && v.is_nan()) || e == *v,
+            Err(_) => false,
+        },
+        // pyulog stores bool as int8, so its CSV prints the byte (0, 1, or whatever
+        // else was logged); we read any non-zero byte as true.
+        Value::Bool(b) => expected.parse::<i8>().is_ok_and(|e| (e != 0) == *b),
+        Value::Str(s) => {
+            let latin1: String = s
+                .until_nul()
+                .as_bytes()
+                .iter()
+                .map(|&b| b as char)
+                .collect();
+            latin1 == expected
+        }
+        v => match (v.as_i128(), expected.parse::<i128>()) {
+            (Some(a), Ok(b)) => a == b,
+            _ => false,
+        },
+    }
+}
+
+/// Whether a JSON value of `summary.json` equals one of our values.
+pub fn json_matches(expected: &serde_json::Value, ours: &Value) -> bool {
+    use serde_json::Value as J;
+    match (expected, ours) {
+        // The expected outputs decode text as UTF-8 with U+FFFD for invalid bytes,
+        // as we show it.
+        (J::String(e), Value::Str(s)) => *e == s.to_string_lossy(),
+        // pyulog keeps array values as raw bytes; the expected outputs show them as
+        // text too.
+        (J::String(e), Value::Array(a)) => *e == String::from_utf8_lossy(a.as_bytes()),
+        (J::String(e), Value::Bytes(b)) => *e == String::from_utf8_lossy(b),
+        (J::Number(n), Value::F32(v)) => n.as_f64().is_some_and(|e| e == f64::from(*v)),
+        (J::Number(n), Value::F64(v)) => n.as_f64().is_some_and(|e| e == *v),
+        (J::Number(n), v) => match (n.as_i64(), n.as_u64(), v.as_i128()) {
+            (Some(e), _, Some(o)) => i128::from(e) == o,
+            (None, Some(e), Some(o)) => i128::from(e) == o,
+            _ => false,
+        },
+        (J::Bool(e), Value::Bool(o)) => e == o,
+        _ => false,
+    }
+}
+
+/// Stretches where we keep data that pyulog skips: from the end of each corrupt stretch
+/// to the next sync message (pyulog resynchronises only on sync messages; we also on
+/// the first header that starts a chain of valid messages).
+pub fn recovered_stretches(log: &ulog_core::ULog<'_>) -> Vec<(u64, u64)> {
+    let syncs: Vec<u64> = log
+        .messages()
+        .filter_map(Result::ok)
+        .filter(|m| m.message.msg_type() == b'S')
+        .map(|m| m.offset)
+        .collect();
+    log.findings()
+        .iter()
+        .filter(|f| matches!(f.kind, ulog_core::FindingKind::Corrupt(_)))
+        .map(|f| {
+            let end = f.offset + f.len;
+            (
+                end,
+                syncs
+                    .iter()
+                    .copied()
+                    .find(|&s| s >= end)
+                    .unwrap_or(u64::MAX),
+            )
+        })
+        .collect()
+}

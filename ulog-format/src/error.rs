@@ -53,9 +53,7 @@ impl fmt::Display for FormatError {
                 f,
                 "character {c:?} is not allowed in a name (allowed: a-z A-Z 0-9 _ - /)"
             )?,
-            FormatErrorKind::NameIsBasicType => {
-                write!(f, "a message name cannot be a basic type")?
-            }
+            FormatErrorKind::NameIsBasicType => write!(f, "a message name cannot be a basic type")?,
             FormatErrorKind::NoFields => write!(f, "format has no fields")?,
             FormatErrorKind::MissingFieldName => {
                 write!(f, "field has no name (expected `type name`)")?
@@ -66,7 +64,7 @@ impl fmt::Display for FormatError {
                 "character {c:?} is not allowed in a field name (allowed: a-z A-Z 0-9 _)"
             )?,
             FormatErrorKind::BadArrayLength => {
-                write!(f, "array length must be a whole number from 1 to 65535")?
+                write!(f, "array length must be a whole number from 0 to 65535")?
             }
             FormatErrorKind::DuplicateField(name) => write!(f, "duplicate field `{name}`")?,
         }

@@ -516,14 +516,18 @@ mod tests {
         let esc = l.find("esc").unwrap();
         assert_eq!((esc.count, esc.is_array, esc.size()), (8, true, 384));
         assert_eq!(
-            l.formats().iter().map(|f| f.name.as_str()).collect::<Vec<_>>(),
+            l.formats()
+                .iter()
+                .map(|f| f.name.as_str())
+                .collect::<Vec<_>>(),
             ["esc_report", "esc_status"]
         );
     }
 
     #[test]
     fn trailing_padding_and_accepted_lengths() {
-        let f = formats(&["m:uint64_t timestamp;uint8_t a;uint8_t[3] _padding0;uint8_t[4] _padding1;"]);
+        let f =
+            formats(&["m:uint64_t timestamp;uint8_t a;uint8_t[3] _padding0;uint8_t[4] _padding1;"]);
         let l = Layout::resolve("m", &f).unwrap();
         assert_eq!((l.size(), l.trailing_padding(), l.min_size()), (16, 7, 9));
         assert!(l.accepts_len(16) && l.accepts_len(9));
@@ -534,7 +538,10 @@ mod tests {
     fn strings_and_arrays_flatten_like_pyulog() {
         let f = formats(&["m:uint64_t timestamp;char[4] name;float[2] q;"]);
         let l = Layout::resolve("m", &f).unwrap();
-        let cols: Vec<_> = l.columns().map(|c| (c.path.as_str(), c.kind, c.count)).collect();
+        let cols: Vec<_> = l
+            .columns()
+            .map(|c| (c.path.as_str(), c.kind, c.count))
+            .collect();
         assert_eq!(
             cols,
             [

@@ -26,6 +26,7 @@
 #![warn(missing_docs)]
 
 mod basic;
+pub mod definitions;
 mod error;
 pub mod layout;
 pub mod parse;
@@ -35,7 +36,7 @@ pub use error::{FormatError, FormatErrorKind, LayoutError, LayoutErrorKind};
 pub use layout::{
     FieldRef, FormatLookup, Layout, LayoutField, LayoutType, Leaf, LeafKind, Limits, Resolver,
 };
-pub use parse::{parse_field, Field, Format, Span, TypeName};
+pub use parse::{parse_field, parse_key, Field, Format, Span, TypeName};
 
 /// Whether a field name marks padding: names starting with `_padding` are never
 /// shown as values and their bytes are ignored.

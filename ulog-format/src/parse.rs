@@ -150,7 +150,7 @@ impl Format {
             if part.is_empty() {
                 continue;
             }
-            match parse_field_at(part, start) {
+            match parse_field_at(part, start, is_field_name_char) {
                 Ok(field) => {
                     if fields.iter().any(|f| f.name == field.name) {
                         errors.push(FormatError {
@@ -212,7 +212,19 @@ impl fmt::Display for Format {
 /// assert_eq!((f.name.as_str(), f.array_len), ("sys_name", Some(5)));
 /// ```
 pub fn parse_field(text: &str) -> Result<Field, FormatError> {
-    parse_field_at(text, 0).map_err(|mut e| e.swap_remove(0))
+    parse_field_at(text, 0, is_field_name_char).map_err(|mut e| e.swap_remove(0))
+}
+
+/// Parses the key of an information, multi-information or parameter message: a field
+/// whose name may also hold `-` and `/` (`char[76] perf_counter_preflight-00`).
+///
+/// ```
+/// let f = ulog_format::parse_key("char[0] perf_top-23").unwrap();
+/// assert_eq!((f.name.as_str(), f.array_len), ("perf_top-23", Some(0)));
+/// assert!(ulog_format::parse_field("char[0] perf_top-23").is_err());
+/// ```
+pub fn parse_key(text: &str) -> Result<Field, FormatError> {
+    parse_field_at(text, 0, is_name_char).map_err(|mut e| e.swap_remove(0))
 }
 
 fn check_type_name(name: &str, offset: usize, errors: &mut Vec<FormatError>) {
@@ -230,7 +242,11 @@ fn check_type_name(name: &str, offset: usize, errors: &mut Vec<FormatError>) {
     }
 }
 
-fn parse_field_at(part: &str, offset: usize) -> Result<Field, Vec<FormatError>> {
+fn parse_field_at(
+    part: &str,
+    offset: usize,
+    name_char: fn(char) -> bool,
+) -> Result<Field, Vec<FormatError>> {
     let mut errors = Vec::new();
     let err = |kind, start: usize, end: usize| FormatError {
         kind,
@@ -266,7 +282,7 @@ fn parse_field_at(part: &str, offset: usize) -> Result<Field, Vec<FormatError>> 
                         None
                     }
                 })
-                .filter(|&n| (1..=MAX_ARRAY_LEN).contains(&n));
+                .filter(|&n| n <= MAX_ARRAY_LEN);
             if len.is_none() {
                 errors.push(err(
                     FormatErrorKind::BadArrayLength,
@@ -292,7 +308,7 @@ fn parse_field_at(part: &str, offset: usize) -> Result<Field, Vec<FormatError>> 
             TypeName::Nested(type_name.to_owned())
         }
     };
-    if let Some((i, c)) = name.char_indices().find(|&(_, c)| !is_field_name_char(c)) {
+    if let Some((i, c)) = name.char_indices().find(|&(_, c)| !name_char(c)) {
         errors.push(err(
             FormatErrorKind::InvalidFieldNameChar(c),
             name_start + i,
@@ -342,9 +358,12 @@ mod tests {
 
     #[test]
     fn reports_every_error_with_its_column() {
-        let text = "m:uint8_t a;float[0] b;int8_t a;c$ d;uint8_t e!";
+        let text = "m:uint8_t a;float[-] b;int8_t a;c$ d;uint8_t e!";
         let errors = Format::parse_all(text).unwrap_err();
-        let kinds: Vec<_> = errors.iter().map(|e| (e.kind.clone(), e.span.start)).collect();
+        let kinds: Vec<_> = errors
+            .iter()
+            .map(|e| (e.kind.clone(), e.span.start))
+            .collect();
         assert_eq!(
             kinds,
             vec![
@@ -366,6 +385,8 @@ mod tests {
         assert_eq!(kind("m:;;"), FormatErrorKind::NoFields);
         assert_eq!(kind("m:uint8_t;"), FormatErrorKind::MissingFieldName);
         assert_eq!(kind("m:uint8_t[70000] a;"), FormatErrorKind::BadArrayLength);
+        // Zero-length arrays occur in real logs (`char[0]` information values).
+        assert_eq!(parse_field("char[0] empty").unwrap().array_len, Some(0));
         assert_eq!(kind("m:uint8_t[3 a;"), FormatErrorKind::BadArrayLength);
         assert_eq!(kind("m:[3] a;"), FormatErrorKind::EmptyType);
         assert_eq!(

@@ -1,0 +1,2 @@
+//! Access to a parsed log: topics, fields by path, typed values.
+pub mod topic;

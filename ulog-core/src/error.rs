@@ -1,0 +1,150 @@
+//! The one error type of the library: what stopped a read, and where.
+
+use core::fmt;
+
+/// What went wrong. Matchable; new kinds may be added.
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// An I/O error (its text; `std::io::Error` is not `Clone`).
+    Io(String),
+    /// The file is empty.
+    Empty,
+    /// The file does not start with the ULog magic; says what it looks like instead.
+    NotULog {
+        /// A short description of what was found (e.g. `all zero bytes`, `a gzip file`).
+        found: String,
+    },
+    /// The file ends inside the 16-byte header.
+    TruncatedHeader {
+        /// How many bytes there are.
+        len: u64,
+    },
+    /// The flag bits set an incompatibility bit this reader does not know: the spec
+    /// requires refusing the log.
+    UnknownIncompatFlags {
+        /// Index (0–7) of the first byte with an unknown bit.
+        byte: usize,
+        /// The unknown bits of that byte.
+        bits: u8,
+    },
+    /// No topic of that name (and multi id) in the log.
+    TopicNotFound {
+        /// The topic asked for.
+        name: String,
+        /// The closest topic name the log has, if any is close.
+        suggestion: Option<String>,
+    },
+    /// The topic has no field at that path.
+    FieldNotFound {
+        /// The topic.
+        topic: String,
+        /// The path asked for.
+        path: String,
+        /// The closest field path of the topic, if any is close.
+        suggestion: Option<String>,
+    },
+    /// The topic's format could not be laid out (unknown nested type, cycle, limits).
+    Layout(ulog_format::LayoutError),
+    /// A data message's payload does not fit its format.
+    PayloadSize {
+        /// The topic.
+        topic: String,
+        /// Valid lengths: the full size and the size without trailing padding.
+        expected: (usize, usize),
+        /// The length found.
+        found: usize,
+    },
+    /// The stream ended where more bytes were required (incremental reader).
+    UnexpectedEof,
+}
+
+/// An error with the byte offset in the file where it happened.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Error {
+    /// What went wrong.
+    pub kind: ErrorKind,
+    /// Byte offset in the file (0 where no place applies).
+    pub offset: u64,
+}
+
+impl Error {
+    /// An error of `kind` at `offset`.
+    pub fn new(kind: ErrorKind, offset: u64) -> Error {
+        Error { kind, offset }
+    }
+
+    /// What went wrong.
+    pub fn kind(&self) -> &ErrorKind {
+        &self.kind
+    }
+}
+
+impl From<std::io::Error> for Error {
+    fn from(e: std::io::Error) -> Error {
+        Error::new(ErrorKind::Io(e.to_string()), 0)
+    }
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ErrorKind::Io(e) => write!(f, "i/o error: {e}"),
+            ErrorKind::Empty => write!(f, "not a ULog file: the file is empty"),
+            ErrorKind::NotULog { found } => {
+                write!(
+                    f,
+                    "not a ULog file: no ULog magic at the start, found {found}"
+                )
+            }
+            ErrorKind::TruncatedHeader { len } => write!(
+                f,
+                "truncated ULog header: the file has {len} bytes, the header needs 16"
+            ),
+            ErrorKind::UnknownIncompatFlags { byte, bits } => write!(
+                f,
+                "refused: unknown incompatible flag bits {bits:#04x} in incompat_flags[{byte}]"
+            ),
+            ErrorKind::TopicNotFound { name, suggestion } => {
+                write!(f, "no topic `{name}` in the log")?;
+                if let Some(s) = suggestion {
+                    write!(f, " (did you mean `{s}`?)")?;
+                }
+                Ok(())
+            }
+            ErrorKind::FieldNotFound {
+                topic,
+                path,
+                suggestion,
+            } => {
+                write!(f, "topic `{topic}` has no field `{path}`")?;
+                if let Some(s) = suggestion {
+                    write!(f, " (did you mean `{s}`?)")?;
+                }
+                Ok(())
+            }
+            ErrorKind::Layout(e) => write!(f, "{e}"),
+            ErrorKind::PayloadSize {
+                topic,
+                expected,
+                found,
+            } => write!(
+                f,
+                "data message of `{topic}` has {found} bytes, its format needs {} or {}",
+                expected.0, expected.1
+            ),
+            ErrorKind::UnexpectedEof => write!(f, "unexpected end of stream"),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} (at byte {})", self.kind, self.offset)
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// The library's result type.
+pub type Result<T, E = Error> = core::result::Result<T, E>;

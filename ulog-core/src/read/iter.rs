@@ -1,0 +1,79 @@
+//! Every message of a byte slice in file order, with the reader's damage handling.
+
+use crate::error::Result;
+use crate::finding::Finding;
+use crate::read::framing::{Framer, Header, Step, MSG_HEADER_LEN};
+use crate::read::message::Message;
+
+/// A message with the byte offset of its header in the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MessageAt<'a> {
+    /// Byte offset of the message's 3-byte header.
+    pub offset: u64,
+    /// The message.
+    pub message: Message<'a>,
+}
+
+/// Iterator over the messages of a whole file (see [`ULog::messages`](crate::ULog::messages)).
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// let mut it = ulog_core::Messages::new(&bytes);
+/// let formats = it.by_ref().filter_map(Result::ok).filter(|m| m.message.msg_type() == b'F').count();
+/// assert!(formats > 0);
+/// assert!(it.findings().is_empty());
+/// ```
+pub struct Messages<'a> {
+    data: &'a [u8],
+    framer: Framer,
+    done: bool,
+}
+
+impl<'a> Messages<'a> {
+    /// Frames `data`, a whole ULog file.
+    pub fn new(data: &'a [u8]) -> Messages<'a> {
+        Messages {
+            data,
+            framer: Framer::new(),
+            done: false,
+        }
+    }
+
+    /// The file header, once the first message has been asked for.
+    pub fn header(&self) -> Option<Header> {
+        self.framer.header
+    }
+
+    /// What was found and stepped over so far.
+    pub fn findings(&self) -> &[Finding] {
+        &self.framer.findings
+    }
+}
+
+impl<'a> Iterator for Messages<'a> {
+    type Item = Result<MessageAt<'a>>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        match self.framer.step(self.data, 0, true) {
+            Ok(Step::Record(r)) => {
+                let start = r.offset as usize + MSG_HEADER_LEN;
+                let payload = &self.data[start..start + r.size as usize];
+                Some(Ok(MessageAt {
+                    offset: r.offset,
+                    message: Message::from_record(&r, payload, self.framer.flag_bits),
+                }))
+            }
+            Ok(Step::End) | Ok(Step::NeedMore) => {
+                self.done = true;
+                None
+            }
+            Err(e) => {
+                self.done = true;
+                Some(Err(e))
+            }
+        }
+    }
+}

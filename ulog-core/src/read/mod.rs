@@ -1,0 +1,7 @@
+//! Reading: framing, message views, the whole-file parse and the incremental reader.
+pub mod framing;
+pub mod iter;
+pub mod log;
+pub mod message;
+pub mod stream;
+pub mod timestamp;
