@@ -5,10 +5,6 @@ use ulog_core::{
     Corruption, ErrorKind, FindingKind, Incremental, LogLevel, Message, Status, ULog, Value,
 };
 
-fn u64s(vals: &[u64]) -> Vec<u8> {
-    vals.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
 /// A version-1 log with one topic `t:uint64_t timestamp;uint32_t v;uint8_t[4] _padding0;`.
 fn base() -> LogBuilder {
     let mut b = LogBuilder::new(1, 100);

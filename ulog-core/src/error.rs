@@ -57,6 +57,10 @@ pub enum ErrorKind {
     },
     /// The stream ended where more bytes were required (incremental reader).
     UnexpectedEof,
+    /// A topic's format does not fit a binding: every difference, with both formats.
+    Mismatch(Box<crate::typed::Mismatch>),
+    /// A payload could not be decoded into a binding.
+    Decode(crate::typed::DecodeError),
 }
 
 /// An error with the byte offset in the file where it happened.
@@ -134,6 +138,8 @@ impl fmt::Display for ErrorKind {
                 expected.0, expected.1
             ),
             ErrorKind::UnexpectedEof => write!(f, "unexpected end of stream"),
+            ErrorKind::Mismatch(m) => write!(f, "{m}"),
+            ErrorKind::Decode(e) => write!(f, "{e}"),
         }
     }
 }

@@ -39,6 +39,7 @@ pub mod typed;
 mod value;
 
 pub use access::topic::{FieldReader, FieldShape, Topic};
+pub use access::typed::{Order, TypedRows, Walk};
 pub use error::{Error, ErrorKind, Result};
 pub use finding::{Corruption, Finding, FindingKind};
 #[cfg(feature = "mmap")]
@@ -52,5 +53,8 @@ pub use read::log::{
 pub use read::message::{KeyValue, LogLevel, LogMessage, Message};
 pub use read::stream::{Incremental, Status, StreamReader};
 pub use read::timestamp::{TimestampField, Unwrapper};
+#[cfg(feature = "derive")]
+pub use typed::{ulog_module, ulog_structs};
+pub use typed::{CharArray, Plan, PlanKind, ULogMessage, ULogTopics};
 pub use ulog_format as format;
 pub use value::{Array, NumpyFloat, Str, Value};

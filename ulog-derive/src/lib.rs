@@ -1,1 +1,65 @@
-//! Derive macros for ULog topic bindings (see the typed-bindings issue); empty until then.
+//! Derive and function-like macros that bind Rust structs to ULog message formats.
+//!
+//! Use them through `ulog-core` with its `derive` feature (`ulog_core::typed::
+//! {ULogMessage, ULogTopics, ulog_structs, ulog_module}`): the generated code names the
+//! runtime as `::ulog_core` unless told otherwise with `#[ulog(crate = "…")]` (or
+//! `crate = path;` in the function-like macros).
+//!
+//! Each macro runs parse → lower → check → expand (`input`/`attr`, `lower`, `check`,
+//! `expand`; `structs` for format strings and logs) and reports every error of its
+//! input at once, with spans.
+
+mod attr;
+mod check;
+mod errors;
+mod expand;
+mod input;
+mod ir;
+mod lower;
+mod module;
+mod names;
+mod structs;
+mod topics;
+
+#[cfg(test)]
+mod snapshots;
+
+use proc_macro::TokenStream;
+
+/// Binds a struct to a ULog message: its format (with nested formats), layout, and
+/// decoding and encoding. See `ulog_core::typed::ULogMessage`.
+///
+/// Attributes: `#[ulog(name = "…")]` (message name; default: the struct name in
+/// snake_case), `#[ulog(crate = "…")]` (the runtime crate's path); on fields
+/// `#[ulog(name = "…")]`, `#[ulog(alias = "…")]` (repeatable) and `#[ulog(char)]`
+/// (for a `[u8; N]` that is a `char[N]`). Fields named `_padding…` are padding.
+#[proc_macro_derive(ULogMessage, attributes(ulog))]
+pub fn derive_ulog_message(input: TokenStream) -> TokenStream {
+    let input = syn::parse_macro_input!(input as syn::DeriveInput);
+    structs::derive_message(&input).into()
+}
+
+/// Binds an enum with one tuple variant per binding, for reading several topics in
+/// one walk. See `ulog_core::typed::ULogTopics`.
+#[proc_macro_derive(ULogTopics, attributes(ulog))]
+pub fn derive_ulog_topics(input: TokenStream) -> TokenStream {
+    let input = syn::parse_macro_input!(input as syn::DeriveInput);
+    topics::derive(&input).into()
+}
+
+/// Generates binding structs from ULog format strings:
+/// `ulog_structs!("vehicle_attitude:uint64_t timestamp;float[4] q;")`, optionally
+/// preceded by `crate = path;` and `pub`-style visibility `vis = pub(crate);`.
+/// Nested types must be among the formats given.
+#[proc_macro]
+pub fn ulog_structs(input: TokenStream) -> TokenStream {
+    structs::from_format_strings(input.into()).into()
+}
+
+/// Generates a module of binding structs from every format in a `.ulg` log, read at
+/// compile time: `ulog_module!(pub mod px4 = "logs/reference.ulg");` (path relative to
+/// the crate's `CARGO_MANIFEST_DIR`), optionally preceded by `crate = path;`.
+#[proc_macro]
+pub fn ulog_module(input: TokenStream) -> TokenStream {
+    module::from_log(input.into()).into()
+}

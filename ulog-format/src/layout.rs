@@ -7,7 +7,7 @@
 //! (`timestamp`, `q[0]`, `esc[3].esc_rpm`, a `char[N]` string as one leaf).
 
 use std::collections::{BTreeMap, HashMap};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use crate::basic::BasicType;
 use crate::error::{LayoutError, LayoutErrorKind};
@@ -159,14 +159,29 @@ impl FieldRef {
 }
 
 /// A format with its nested types resolved and every field placed.
-#[derive(Debug, Clone, PartialEq, Eq)]
+///
+/// The flattened leaves are computed on first use: a small format text can describe
+/// tens of thousands of leaves (`uint8_t[65535] x`), and a reader that lays out every
+/// subscription of a hostile file must not pay for them up front.
+#[derive(Debug, Clone)]
 pub struct Layout {
     format: Format,
     fields: Vec<LayoutField>,
     size: usize,
     trailing_padding: usize,
-    leaves: Vec<Leaf>,
+    leaves: OnceLock<Vec<Leaf>>,
 }
+
+impl PartialEq for Layout {
+    fn eq(&self, other: &Layout) -> bool {
+        self.format == other.format
+            && self.fields == other.fields
+            && self.size == other.size
+            && self.trailing_padding == other.trailing_padding
+    }
+}
+
+impl Eq for Layout {}
 
 impl Layout {
     /// Resolves the format `name` from `formats` with the default [`Limits`].
@@ -216,14 +231,18 @@ impl Layout {
         len == self.size || len == self.min_size()
     }
 
-    /// Every leaf, padding included, in payload order.
+    /// Every leaf, padding included, in payload order (computed on first use).
     pub fn leaves(&self) -> &[Leaf] {
-        &self.leaves
+        self.leaves.get_or_init(|| {
+            let mut leaves = Vec::new();
+            push_leaves(&self.fields, "", 0, false, &mut leaves);
+            leaves
+        })
     }
 
     /// The leaves that are values (no padding), in pyulog's column order.
     pub fn columns(&self) -> impl Iterator<Item = &Leaf> {
-        self.leaves.iter().filter(|l| l.kind != LeafKind::Padding)
+        self.leaves().iter().filter(|l| l.kind != LeafKind::Padding)
     }
 
     /// The top-level field with this name.
@@ -415,14 +434,12 @@ impl Resolver {
             .take_while(|f| f.is_padding())
             .map(|f| f.size)
             .sum();
-        let mut leaves = Vec::new();
-        push_leaves(&fields, "", 0, false, &mut leaves);
         Ok(Arc::new(Layout {
             format: format.clone(),
             fields,
             size: offset,
             trailing_padding,
-            leaves,
+            leaves: OnceLock::new(),
         }))
     }
 }

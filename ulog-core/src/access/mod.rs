@@ -1,2 +1,3 @@
-//! Access to a parsed log: topics, fields by path, typed values.
+//! Access to a parsed log: topics, fields by path, typed values, bindings.
 pub mod topic;
+pub mod typed;

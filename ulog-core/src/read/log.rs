@@ -491,6 +491,14 @@ impl<'a> ULog<'a> {
             .map(move |sub| crate::Topic::new(self, sub))
     }
 
+    /// The topic of subscription `index` (an index into [`ULog::subscriptions`]).
+    ///
+    /// # Panics
+    /// If there is no such subscription.
+    pub fn topic_at(&self, index: usize) -> crate::Topic<'_, 'a> {
+        crate::Topic::new(self, &self.subscriptions[index])
+    }
+
     /// The topic `name` with `multi_id`.
     pub fn topic(&self, name: &str, multi_id: u8) -> Result<crate::Topic<'_, 'a>> {
         self.subscriptions

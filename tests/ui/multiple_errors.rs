@@ -1,0 +1,17 @@
+use ulog_core::typed::ULogMessage;
+
+#[derive(ULogMessage)]
+#[ulog(name = "bad name", name = "again")]
+struct M {
+    a: usize,
+    #[ulog(char)]
+    b: u32,
+    #[ulog(name = "c", unknown)]
+    c: u8,
+    #[ulog(name = "bad-field")]
+    d: u8,
+}
+
+ulog_core::typed::ulog_structs!("m:uint8_t a;float[0] b;int8_t a;", "x:nope y;");
+
+fn main() {}

@@ -1,0 +1,251 @@
+//! Typed access: a topic read through a binding (a struct implementing
+//! [`ULogMessage`]), checked against the log's format once per subscription; and a
+//! walk over several topics at once with a [`ULogTopics`] enum, in file order or
+//! merged by timestamp.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use crate::access::topic::Topic;
+use crate::error::{Error, ErrorKind, Result};
+use crate::read::log::ULog;
+use crate::typed::{Plan, Subscription, TopicDispatcher, TopicRecord, ULogMessage, ULogTopics};
+
+/// The rows of one topic instance decoded into `T` (see [`Topic::decode`]).
+pub struct TypedRows<'l, 'a, T> {
+    topic: Topic<'l, 'a>,
+    plan: Plan<T>,
+}
+
+impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
+    /// The topic instance.
+    pub fn topic(&self) -> Topic<'l, 'a> {
+        self.topic
+    }
+
+    /// The plan made for it (exact copy or field mapping).
+    pub fn plan(&self) -> &Plan<T> {
+        &self.plan
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.topic.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.topic.is_empty()
+    }
+
+    /// Row `i`, decoded.
+    pub fn get(&self, i: usize) -> Option<Result<T>> {
+        let payload = self.topic.payload(i)?;
+        let offset = self.topic.message_offsets()[i];
+        Some(
+            self.plan
+                .decode(payload)
+                .map_err(|e| Error::new(ErrorKind::Decode(e), offset)),
+        )
+    }
+
+    /// Every row, decoded, in file order. Framing has checked each payload's size
+    /// against the format, so decoding fails only for formats that could not be laid
+    /// out.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = Result<T>> + '_ {
+        let offsets = self.topic.message_offsets();
+        self.topic.payloads().zip(offsets).map(move |(p, &o)| {
+            self.plan
+                .decode(p)
+                .map_err(|e| Error::new(ErrorKind::Decode(e), o))
+        })
+    }
+
+    /// Every row borrowed in place as `&T`, where the binding's layout is the file's
+    /// exactly and its fields have alignment 1 (see [`Plan::view`]).
+    pub fn views(&self) -> impl ExactSizeIterator<Item = Result<&'a T>> + '_
+    where
+        T: zerocopy::FromBytes
+            + zerocopy::KnownLayout
+            + zerocopy::Immutable
+            + zerocopy::Unaligned
+            + 'a,
+    {
+        let offsets = self.topic.message_offsets();
+        self.topic.payloads().zip(offsets).map(move |(p, &o)| {
+            self.plan
+                .view(p)
+                .map_err(|e| Error::new(ErrorKind::Decode(e), o))
+        })
+    }
+}
+
+impl<'l, 'a> Topic<'l, 'a> {
+    /// Checks the topic's format against binding `T` once: an exact match, a
+    /// compatible one (fields found by name or alias elsewhere), or an error listing
+    /// every difference.
+    pub fn plan<T: ULogMessage>(&self) -> Result<Plan<T>> {
+        let layout = self.layout()?;
+        Plan::new(layout)
+            .map_err(|m| Error::new(ErrorKind::Mismatch(Box::new(m)), self.subscription_offset()))
+    }
+
+    /// The topic's rows decoded into `T`.
+    pub fn decode<T: ULogMessage>(&self) -> Result<TypedRows<'l, 'a, T>> {
+        Ok(TypedRows {
+            topic: *self,
+            plan: self.plan()?,
+        })
+    }
+}
+
+/// The order of a walk over several topics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Order {
+    /// As the messages stand in the file.
+    File,
+    /// By timestamp, ties in file order (each topic's own order is kept).
+    Timestamp,
+}
+
+impl<'a> ULog<'a> {
+    /// Instance `multi_id` of the topic `T` binds (by its ULog name), decoded into `T`.
+    ///
+    /// ```
+    /// # #[cfg(feature = "derive")] {
+    /// use ulog_core::typed::ULogMessage;
+    ///
+    /// #[derive(ULogMessage)]
+    /// #[ulog(crate = "ulog_core")]
+    /// struct BatteryStatus { timestamp: u64, voltage_v: f32, remaining: f32 }
+    ///
+    /// let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// let rows = log.read::<BatteryStatus>(1).unwrap();
+    /// let first = rows.iter().next().unwrap().unwrap();
+    /// assert_eq!(first.voltage_v, 16.7);
+    /// # }
+    /// ```
+    pub fn read<T: ULogMessage>(&self, multi_id: u8) -> Result<TypedRows<'_, 'a, T>> {
+        self.topic(T::NAME, multi_id)?.decode()
+    }
+
+    /// Every instance of the topic `T` binds, each decoded into `T`, by multi_id.
+    pub fn read_instances<T: ULogMessage>(&self) -> Result<Vec<TypedRows<'_, 'a, T>>> {
+        self.topic_instances(T::NAME)
+            .into_iter()
+            .map(|t| t.decode())
+            .collect()
+    }
+
+    /// Walks the data of every topic once with a [`ULogTopics`] enum: the topics it
+    /// names come decoded (plans made once per subscription), the others raw. A topic
+    /// whose format does not fit its variant yields one error, then its records raw.
+    pub fn walk<E: ULogTopics>(&self, order: Order) -> Walk<'_, 'a, E> {
+        let mut dispatcher = TopicDispatcher::new();
+        let mut slots = Vec::new();
+        let mut times = Vec::new();
+        for topic in self.topics() {
+            slots.push(
+                topic
+                    .layout()
+                    .ok()
+                    .map(|l| dispatcher.subscribe(topic.name(), l)),
+            );
+            // Narrow (version 0) timestamps are unwrapped per series before merging.
+            times.push(match order {
+                Order::File => Vec::new(),
+                Order::Timestamp => {
+                    let t = topic.timestamps();
+                    if t.len() == topic.len() {
+                        t
+                    } else {
+                        vec![0; topic.len()]
+                    }
+                }
+            });
+        }
+        let mut walk = Walk {
+            log: self,
+            dispatcher,
+            slots,
+            times,
+            reported: Vec::new(),
+            cursors: BinaryHeap::new(),
+        };
+        for sub in 0..self.subscriptions().len() {
+            walk.push_cursor(sub, 0);
+        }
+        walk
+    }
+}
+
+#[derive(PartialEq, Eq, PartialOrd, Ord)]
+struct Cursor {
+    key: u64,
+    offset: u64,
+    sub: usize,
+    row: usize,
+}
+
+/// The walk of [`ULog::walk`].
+pub struct Walk<'l, 'a, E> {
+    log: &'l ULog<'a>,
+    dispatcher: TopicDispatcher<E>,
+    slots: Vec<Option<usize>>,
+    times: Vec<Vec<u64>>,
+    reported: Vec<usize>,
+    cursors: BinaryHeap<Reverse<Cursor>>,
+}
+
+impl<'l, 'a, E> Walk<'l, 'a, E> {
+    fn push_cursor(&mut self, sub: usize, row: usize) {
+        let topic = self.log.topic_at(sub);
+        let Some(&offset) = topic.message_offsets().get(row) else {
+            return;
+        };
+        let key = self.times[sub].get(row).copied().unwrap_or(offset);
+        self.cursors.push(Reverse(Cursor {
+            key,
+            offset,
+            sub,
+            row,
+        }));
+    }
+}
+
+impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
+    type Item = Result<TopicRecord<'l, E>>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let Reverse(c) = self.cursors.pop()?;
+        self.push_cursor(c.sub, c.row + 1);
+        let topic = self.log.topic_at(c.sub);
+        let payload = topic.payload(c.row).expect("row exists");
+        let raw = TopicRecord::Raw {
+            name: topic.name(),
+            multi_id: topic.multi_id(),
+            payload,
+        };
+        let Some(slot) = self.slots[c.sub] else {
+            return Some(Ok(raw));
+        };
+        match self.dispatcher.subscription(slot) {
+            Some(Subscription::Mismatched(m)) if !self.reported.contains(&c.sub) => {
+                self.reported.push(c.sub);
+                Some(Err(Error::new(
+                    ErrorKind::Mismatch(Box::new((**m).clone())),
+                    topic.subscription_offset(),
+                )))
+            }
+            _ => match self.dispatcher.decode(slot, payload) {
+                None => Some(Ok(raw)),
+                Some(Ok(message)) => Some(Ok(TopicRecord::Message {
+                    multi_id: topic.multi_id(),
+                    message,
+                })),
+                Some(Err(e)) => Some(Err(Error::new(ErrorKind::Decode(e), c.offset))),
+            },
+        }
+    }
+}

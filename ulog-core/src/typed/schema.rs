@@ -1,0 +1,177 @@
+//! `Schema`: the ULog format of a binding, built once from its field list.
+
+use std::sync::Arc;
+
+use ulog_format::{Field, Format, Layout, TypeName};
+
+use super::wire::FieldKind;
+
+/// One field of a binding, as the derive describes it.
+#[derive(Debug, Clone, Copy)]
+pub struct FieldDef {
+    name: &'static str,
+    aliases: &'static [&'static str],
+    kind: FieldKind,
+    array_len: Option<usize>,
+}
+
+impl FieldDef {
+    /// A field named `name` in the format (also found under `aliases` when reading),
+    /// of ULog type `kind`, an array of `array_len` elements if `Some`.
+    pub const fn new(
+        name: &'static str,
+        aliases: &'static [&'static str],
+        kind: FieldKind,
+        array_len: Option<usize>,
+    ) -> FieldDef {
+        FieldDef {
+            name,
+            aliases,
+            kind,
+            array_len,
+        }
+    }
+
+    /// The field's ULog name.
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+
+    /// Other names the field is found under in a log (older firmware).
+    pub fn aliases(&self) -> &'static [&'static str] {
+        self.aliases
+    }
+
+    /// The ULog type of one element.
+    pub fn kind(&self) -> FieldKind {
+        self.kind
+    }
+
+    /// The array length, for arrays.
+    pub fn array_len(&self) -> Option<usize> {
+        self.array_len
+    }
+}
+
+/// The ULog side of a binding: its format, the nested formats it uses, and its
+/// layout. Built once per type (the derive keeps it in a `static`).
+#[derive(Debug)]
+pub struct Schema {
+    fields: &'static [FieldDef],
+    format: Format,
+    formats: Vec<Format>,
+    layout: Arc<Layout>,
+}
+
+impl Schema {
+    /// Builds the schema of message `name` with `fields`, in order.
+    ///
+    /// # Panics
+    ///
+    /// When the names are not valid ULog names, or two nested types share a message
+    /// name with different formats. The derive checks names at compile time, so this
+    /// only happens with hand-written `FieldDef`s or conflicting nested bindings.
+    ///
+    /// ```
+    /// use ulog_core::typed::{FieldDef, FieldKind, Schema};
+    /// use ulog_format::BasicType;
+    ///
+    /// static FIELDS: [FieldDef; 2] = [
+    ///     FieldDef::new("timestamp", &[], FieldKind::Basic(BasicType::UInt64), None),
+    ///     FieldDef::new("q", &[], FieldKind::Basic(BasicType::Float), Some(4)),
+    /// ];
+    /// let schema = Schema::build("vehicle_attitude", &FIELDS);
+    /// assert_eq!(schema.format_text(), "vehicle_attitude:uint64_t timestamp;float[4] q;");
+    /// assert_eq!(schema.layout().size(), 24);
+    /// ```
+    pub fn build(name: &'static str, fields: &'static [FieldDef]) -> Schema {
+        let mut formats: Vec<Format> = Vec::new();
+        let mut own = Vec::with_capacity(fields.len());
+        for def in fields {
+            let ty = match def.kind {
+                FieldKind::Basic(b) => TypeName::Basic(b),
+                FieldKind::Nested(schema) => {
+                    let nested = schema();
+                    for f in &nested.formats {
+                        match formats.iter().find(|g| g.name == f.name) {
+                            Some(g) if g != f => panic!(
+                                "two nested types are named `{}` with different formats: `{g}` and `{f}`",
+                                f.name
+                            ),
+                            Some(_) => {}
+                            None => formats.push(f.clone()),
+                        }
+                    }
+                    TypeName::Nested(nested.name().to_owned())
+                }
+            };
+            own.push(Field {
+                ty,
+                array_len: def.array_len,
+                name: def.name.to_owned(),
+                span: Default::default(),
+            });
+        }
+        let text = Format {
+            name: name.to_owned(),
+            fields: own,
+        }
+        .to_string();
+        // Parsing the text back checks the names and gives the fields their spans.
+        let format = match Format::parse(&text) {
+            Ok(f) => f,
+            Err(e) => panic!("invalid ULog binding `{text}`: {e}"),
+        };
+        if formats.iter().any(|f| f.name == format.name) {
+            panic!("message `{name}` contains a nested type of the same name");
+        }
+        formats.push(format.clone());
+        let layout = match Layout::resolve(name, &formats) {
+            Ok(l) => Arc::new(l),
+            Err(e) => panic!("invalid ULog binding `{text}`: {e}"),
+        };
+        Schema {
+            fields,
+            format,
+            formats,
+            layout,
+        }
+    }
+
+    /// The message name.
+    pub fn name(&self) -> &str {
+        &self.format.name
+    }
+
+    /// The fields as the binding declares them, in order.
+    pub fn fields(&self) -> &'static [FieldDef] {
+        self.fields
+    }
+
+    /// The message's own format.
+    pub fn format(&self) -> &Format {
+        &self.format
+    }
+
+    /// Every format the message needs, nested ones first, its own last: the `F`
+    /// messages a writer emits.
+    pub fn formats(&self) -> &[Format] {
+        &self.formats
+    }
+
+    /// The laid-out format.
+    pub fn layout(&self) -> &Arc<Layout> {
+        &self.layout
+    }
+
+    /// The message's own format string, as in a ULog `F` message.
+    pub fn format_text(&self) -> String {
+        self.format.to_string()
+    }
+
+    /// Every format string, nested first, one per line.
+    pub fn formats_text(&self) -> String {
+        let lines: Vec<String> = self.formats.iter().map(|f| f.to_string()).collect();
+        lines.join("\n")
+    }
+}
