@@ -2,9 +2,12 @@
 //! agrees with the whole-file reader whatever the chunking.
 
 use proptest::prelude::*;
-use ulog_core::{Incremental, MessageAt, Messages, Status, ULog};
+use ulog_core::{Error, Finding, Incremental, MessageAt, Messages, Status, ULog};
 
-fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<ulog_core::Finding>), ulog_core::Error> {
+/// Messages (offset and type) and findings of one read.
+type Framed = (Vec<(u64, u8)>, Vec<Finding>);
+
+fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<Finding>), Error> {
     let mut it = Messages::new(bytes);
     let mut out = Vec::new();
     for m in it.by_ref() {
@@ -13,10 +16,7 @@ fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<ulog_core::Finding>), 
     Ok((out, it.findings().to_vec()))
 }
 
-fn incremental(
-    bytes: &[u8],
-    chunks: &[usize],
-) -> Result<(Vec<(u64, u8)>, Vec<ulog_core::Finding>), ulog_core::Error> {
+fn incremental(bytes: &[u8], chunks: &[usize]) -> Result<Framed, Error> {
     let mut inc = Incremental::new();
     let mut out = Vec::new();
     let mut rest = bytes;

@@ -61,6 +61,32 @@ pub enum ErrorKind {
     Mismatch(Box<crate::typed::Mismatch>),
     /// A payload could not be decoded into a binding.
     Decode(crate::typed::DecodeError),
+    /// Writing: a message would be larger than the 65,535 bytes a message can hold.
+    MessageTooLarge {
+        /// The message type.
+        msg_type: u8,
+        /// Its size.
+        size: usize,
+    },
+    /// Writing: a format (or msg_id) that the definitions section did not declare.
+    FormatUndefined(String),
+    /// Writing: a format string that does not parse.
+    InvalidFormat(ulog_format::FormatError),
+    /// Appending: the log has no flag bits message (version 0 logs cannot take
+    /// appended data).
+    NoFlagBits,
+    /// Appending: all three appended offsets are in use.
+    NoFreeAppendedOffset,
+    /// Appending: the log's format of a topic is not exactly the binding's, so values
+    /// of the binding cannot be written to its subscription.
+    LayoutDiffers {
+        /// The topic.
+        topic: String,
+        /// The binding's format.
+        binding: String,
+        /// The log's format.
+        log: String,
+    },
 }
 
 /// An error with the byte offset in the file where it happened.
@@ -140,6 +166,26 @@ impl fmt::Display for ErrorKind {
             ErrorKind::UnexpectedEof => write!(f, "unexpected end of stream"),
             ErrorKind::Mismatch(m) => write!(f, "{m}"),
             ErrorKind::Decode(e) => write!(f, "{e}"),
+            ErrorKind::MessageTooLarge { msg_type, size } => write!(
+                f,
+                "a `{}` message of {size} bytes does not fit in a ULog message (65535 at most)",
+                *msg_type as char
+            ),
+            ErrorKind::FormatUndefined(name) => {
+                write!(f, "format `{name}` was not declared in the definitions section")
+            }
+            ErrorKind::InvalidFormat(e) => write!(f, "invalid format: {e}"),
+            ErrorKind::NoFlagBits => write!(
+                f,
+                "the log has no flag bits message, so data cannot be appended to it"
+            ),
+            ErrorKind::NoFreeAppendedOffset => {
+                write!(f, "all three appended offsets of the log are in use")
+            }
+            ErrorKind::LayoutDiffers { topic, binding, log } => write!(
+                f,
+                "the log's format of `{topic}` is not the binding's: binding `{binding}`, log `{log}`"
+            ),
         }
     }
 }

@@ -37,6 +37,7 @@ mod suggest;
 pub mod testing;
 pub mod typed;
 mod value;
+pub mod write;
 
 pub use access::topic::{FieldReader, FieldShape, Topic};
 pub use access::typed::{Order, TypedRows, Walk};
@@ -58,3 +59,9 @@ pub use typed::{ulog_module, ulog_structs};
 pub use typed::{CharArray, Plan, PlanKind, ULogMessage, ULogTopics};
 pub use ulog_format as format;
 pub use value::{Array, NumpyFloat, Str, Value};
+pub use write::append::{append, Appender, ExistingSubscription};
+pub use write::copy::copy_log;
+pub use write::raw::RawWriter;
+pub use write::writer::{
+    DataWriter, DefaultTypes, Handle, InfoValue, LogWriter, ParamValue, RawHandle, WriterOptions,
+};

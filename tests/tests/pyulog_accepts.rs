@@ -1,0 +1,224 @@
+//! A log written by our writer, read by pyulog (the reference reader): every value
+//! equal. Runs where `python3` can import `pyulog` (`.ci/run` installs it); says
+//! SKIPPED otherwise.
+
+use std::process::Command;
+
+use serde_json::Value as J;
+use ulog_core::typed::{CharArray, ULogMessage};
+use ulog_core::{DefaultTypes, LogLevel, LogWriter, ULog, Value};
+
+#[derive(ULogMessage, Debug, Clone)]
+struct EscReport {
+    timestamp: u64,
+    esc_rpm: i32,
+    esc_voltage: f32,
+    esc_state: u8,
+    _padding0: [u8; 7],
+}
+
+#[derive(ULogMessage, Debug, Clone)]
+struct EscStatus {
+    timestamp: u64,
+    counter: u16,
+    esc_count: u8,
+    armed: bool,
+    _padding0: [u8; 4],
+    esc: [EscReport; 2],
+}
+
+#[derive(ULogMessage, Debug, Clone)]
+struct AllTypes {
+    timestamp: u64,
+    a: i8,
+    b: u8,
+    c: i16,
+    d: u16,
+    e: i32,
+    f: u32,
+    g: i64,
+    h: u64,
+    i: f32,
+    j: f64,
+    k: bool,
+    name: CharArray<8>,
+    v: [f32; 3],
+    _padding0: [u8; 2],
+}
+
+/// Writes a log exercising every kind of message and field.
+pub fn write_sample() -> Vec<u8> {
+    let mut w = LogWriter::new(Vec::new(), 1_000).unwrap();
+    w.info("sys_name", "PX4").unwrap();
+    w.info("ver_sw_release", &0x010e_03ffu32).unwrap();
+    w.info("time_ref_utc", &-3600i32).unwrap();
+    w.multi_info("console", "first, ", false).unwrap();
+    w.multi_info("console", "second", true).unwrap();
+    w.param("MAV_TYPE", 2i32).unwrap();
+    w.param("MPC_XY_VEL_MAX", 12.5f32).unwrap();
+    w.default_param("MPC_XY_VEL_MAX", 10.0f32, DefaultTypes::BOTH)
+        .unwrap();
+    let esc = w.subscribe::<EscStatus>(0).unwrap();
+    let all0 = w.subscribe::<AllTypes>(0).unwrap();
+    let all1 = w.subscribe::<AllTypes>(1).unwrap();
+    let mut data = w.start_data().unwrap();
+    data.log(LogLevel::Info, 1_000, "[logger] started").unwrap();
+    for n in 0..50u64 {
+        let t = 1_000 + n * 10_000;
+        let report = |k: u64| EscReport {
+            timestamp: t + k,
+            esc_rpm: 4000 + n as i32 * 3 - k as i32,
+            esc_voltage: 16.0 - n as f32 * 0.01,
+            esc_state: k as u8,
+            _padding0: [0; 7],
+        };
+        data.write(
+            &esc,
+            &EscStatus {
+                timestamp: t,
+                counter: n as u16,
+                esc_count: 2,
+                armed: n > 3,
+                _padding0: [0; 4],
+                esc: [report(0), report(1)],
+            },
+        )
+        .unwrap();
+        let row = AllTypes {
+            timestamp: t,
+            a: -(n as i8),
+            b: 200 + n as u8,
+            c: -300 * n as i16,
+            d: 60_000 + n as u16,
+            e: -70_000 * n as i32,
+            f: 4_000_000_000 + n as u32,
+            g: -(1 << 40) * n as i64,
+            h: u64::MAX - n,
+            i: 0.1 * n as f32,
+            j: 1e-7 * n as f64,
+            k: n % 2 == 0,
+            name: CharArray::from_str_truncated(&format!("row{n}")),
+            v: [n as f32, 1.0 / (n as f32 + 1.0), -2.5],
+            _padding0: [0; 2],
+        };
+        data.write(if n % 3 == 0 { &all1 } else { &all0 }, &row)
+            .unwrap();
+        if n == 25 {
+            data.param("MPC_XY_VEL_MAX", 8.0f32).unwrap();
+            data.tagged_log(LogLevel::Warning, 7, t, "tagged warning")
+                .unwrap();
+            data.dropout(15).unwrap();
+        }
+    }
+    data.finish().unwrap()
+}
+
+fn json_eq(e: &J, ours: &Value) -> bool {
+    match ours {
+        Value::Str(s) => e.as_str() == Some(&*s.to_string_lossy()),
+        Value::F32(v) => {
+            e.as_f64().is_some_and(|x| x == f64::from(*v)) || (v.is_nan() && e == "nan")
+        }
+        Value::F64(v) => e.as_f64().is_some_and(|x| x == *v) || (v.is_nan() && e == "nan"),
+        Value::Bool(b) => e.as_i64() == Some(i64::from(*b)) || e.as_bool() == Some(*b),
+        v => match (v.as_i128(), e.as_i64(), e.as_u64()) {
+            (Some(o), Some(x), _) => o == i128::from(x),
+            (Some(o), None, Some(x)) => o == i128::from(x),
+            _ => false,
+        },
+    }
+}
+
+#[test]
+fn pyulog_reads_every_value_we_write() {
+    let ok = Command::new("python3")
+        .args(["-c", "import pyulog"])
+        .output();
+    if !ok.is_ok_and(|o| o.status.success()) {
+        eprintln!("pyulog_reads_every_value_we_write: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
+        return;
+    }
+    let bytes = write_sample();
+    let dir = std::env::temp_dir().join(format!("ulog-pyulog-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("written.ulg");
+    std::fs::write(&path, &bytes).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/pyulog_dump.py");
+    let out = Command::new("python3")
+        .arg(script)
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "pyulog failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let py: J = serde_json::from_slice(&out.stdout).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+
+    let log = ULog::parse(&bytes).unwrap();
+    assert_eq!(py["corrupt"], J::Bool(false));
+    for kv in log.info() {
+        assert!(
+            json_eq(&py["info"][&*kv.name()], &kv.value()),
+            "info {}",
+            kv.name()
+        );
+    }
+    assert_eq!(
+        py["info_multi"]["console"],
+        serde_json::json!([["first, ", "second"]])
+    );
+    for kv in log.initial_params() {
+        assert!(
+            json_eq(&py["params"][&*kv.name()], &kv.value()),
+            "param {}",
+            kv.name()
+        );
+    }
+    assert_eq!(py["changed"][0][1], "MPC_XY_VEL_MAX");
+    assert_eq!(py["changed"][0][2], 8.0);
+    assert_eq!(py["logged"][0][2], "[logger] started");
+    assert_eq!(py["tagged"]["7"][0][2], "tagged warning");
+    assert_eq!(py["dropouts"][0][1], 15);
+
+    let topics = py["topics"].as_object().unwrap();
+    assert_eq!(topics.len(), 3);
+    for t in log.topics() {
+        let cols = &topics[&format!("{}/{}", t.name(), t.multi_id())];
+        let mut compared = 0;
+        for c in t.columns().unwrap() {
+            match c.shape() {
+                ulog_core::FieldShape::String(n) => {
+                    // pyulog keeps a char[N] as N int8 columns.
+                    for (row, p) in t.payloads().enumerate() {
+                        let s = c.read(p).unwrap();
+                        let bytes = s.as_str().unwrap().as_bytes();
+                        for i in 0..n {
+                            let e = &cols[&format!("{}[{i}]", c.path())][row];
+                            assert_eq!(e.as_i64(), Some(i64::from(bytes[i] as i8)));
+                        }
+                    }
+                }
+                _ => {
+                    let e = cols[c.path()]
+                        .as_array()
+                        .unwrap_or_else(|| panic!("pyulog lacks {}", c.path()));
+                    assert_eq!(e.len(), t.len());
+                    for (ev, p) in e.iter().zip(t.payloads()) {
+                        let v = c.read(p).unwrap();
+                        assert!(
+                            json_eq(ev, &v),
+                            "{}.{}: pyulog {ev}, ours {v:?}",
+                            t.name(),
+                            c.path()
+                        );
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert!(compared > 0);
+    }
+}
