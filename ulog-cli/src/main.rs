@@ -1,1 +1,53 @@
-fn main() {}
+//! `ulog`: the jobs of pyulog's scripts (`ulog_info`, `ulog_messages`, `ulog_params`,
+//! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
+//! in damaged logs.
+
+mod csv;
+mod failure;
+mod info;
+mod input;
+mod messages;
+mod params;
+mod pyfmt;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use crate::failure::Failure;
+
+/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export.
+#[derive(Debug, Parser)]
+#[command(name = "ulog", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    Info(info::Args),
+    Messages(messages::Args),
+    Params(params::Args),
+    Csv(csv::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(a) => info::run(&a),
+        Command::Messages(a) => messages::run(&a),
+        Command::Params(a) => params::run(&a),
+        Command::Csv(a) => csv::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader of our output went away (`ulog csv … | head`): not an error of ours.
+        Err(Failure::BrokenPipe) => ExitCode::SUCCESS,
+        Err(Failure::Message(m)) => {
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "ulog: {m}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -32,6 +32,7 @@ mod finding;
 #[allow(unsafe_code)]
 #[cfg(feature = "mmap")]
 mod mmap;
+pub mod numfmt;
 pub mod read;
 mod suggest;
 pub mod testing;

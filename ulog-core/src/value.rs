@@ -231,94 +231,34 @@ impl<'a> Value<'a> {
     }
 }
 
-/// Formats a float the way numpy prints it (and so pyulog's CSV): the shortest text
-/// that reads back to the same value, positional between 1e-4 and 1e16, scientific
-/// outside (`1e-05`, `1.5e+16`), always with a fractional part (`1.0`), and `nan`,
-/// `inf`, `-inf`.
+/// Displays a float as numpy prints a scalar of its type (and so pyulog's CSV): the
+/// shortest text that reads back to the same value (ties to the even digit),
+/// positional between 1e-4 and 1e6 for `f32` and 1e16 for `f64` (Python's `repr` of a
+/// float follows the `f64` rules), scientific outside (`1e-05`, `1.5e+16`), always
+/// with a fractional part (`1.0`), and `nan`, `inf`, `-inf`.
 ///
-/// `digits_exp` is Rust's shortest `{:e}` rendering of the value at its own precision,
-/// so `f32` values print their `f32` shortest form.
-fn numpy_style(
-    f: &mut fmt::Formatter<'_>,
-    sci: String,
-    is_nan: bool,
-    is_inf: bool,
-    neg: bool,
-    zero: bool,
-) -> fmt::Result {
-    if is_nan {
-        return f.write_str("nan");
-    }
-    if is_inf {
-        return f.write_str(if neg { "-inf" } else { "inf" });
-    }
-    if zero {
-        return f.write_str(if neg { "-0.0" } else { "0.0" });
-    }
-    let (mantissa, exp) = sci.split_once('e').expect("{:e} has an exponent");
-    let exp: i32 = exp.parse().expect("{:e} exponent is a number");
-    let (sign, mantissa) = match mantissa.strip_prefix('-') {
-        Some(m) => ("-", m),
-        None => ("", mantissa),
-    };
-    let digits: String = mantissa.chars().filter(|c| *c != '.').collect();
-    if (-4..16).contains(&exp) {
-        let n = digits.len() as i32;
-        let s = if exp >= 0 {
-            let int_len = exp + 1;
-            if n <= int_len {
-                format!("{digits}{}.0", "0".repeat((int_len - n) as usize))
-            } else {
-                format!(
-                    "{}.{}",
-                    &digits[..int_len as usize],
-                    &digits[int_len as usize..]
-                )
-            }
-        } else {
-            format!("0.{}{digits}", "0".repeat((-exp - 1) as usize))
-        };
-        write!(f, "{sign}{s}")
-    } else {
-        let m = if digits.len() > 1 {
-            format!("{}.{}", &digits[..1], &digits[1..])
-        } else {
-            digits
-        };
-        let esign = if exp < 0 { '-' } else { '+' };
-        write!(f, "{sign}{m}e{esign}{:02}", exp.abs())
-    }
-}
-
-/// Displays a float as numpy (and pyulog) does; see [`Value`]'s `Display`.
+/// ```
+/// use ulog_core::NumpyFloat;
+/// assert_eq!(NumpyFloat(0.1f32).to_string(), "0.1");
+/// assert_eq!(NumpyFloat(4e6f32).to_string(), "4e+06");
+/// assert_eq!(NumpyFloat(f64::from(0.1f32)).to_string(), "0.10000000149011612");
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct NumpyFloat<T>(pub T);
 
 impl fmt::Display for NumpyFloat<f32> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0;
-        numpy_style(
-            f,
-            format!("{v:e}"),
-            v.is_nan(),
-            v.is_infinite(),
-            v.is_sign_negative(),
-            v == 0.0,
-        )
+        let mut out = Vec::with_capacity(24);
+        crate::numfmt::write_numpy_f32(&mut out, &mut String::new(), self.0);
+        f.write_str(core::str::from_utf8(&out).map_err(|_| fmt::Error)?)
     }
 }
 
 impl fmt::Display for NumpyFloat<f64> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0;
-        numpy_style(
-            f,
-            format!("{v:e}"),
-            v.is_nan(),
-            v.is_infinite(),
-            v.is_sign_negative(),
-            v == 0.0,
-        )
+        let mut out = Vec::with_capacity(32);
+        crate::numfmt::write_numpy_f64(&mut out, &mut String::new(), self.0);
+        f.write_str(core::str::from_utf8(&out).map_err(|_| fmt::Error)?)
     }
 }
 
@@ -374,11 +314,11 @@ mod tests {
             (-2.5, "-2.5"),
             (1e-5, "1e-05"),
             (1.5e-7, "1.5e-07"),
-            (0.0001, "0.0001"),
+            (0.0001, "1e-04"),
             (1.2345e-4, "0.00012345"),
             (3.4028235e38, "3.4028235e+38"),
             (1e16, "1e+16"),
-            (123456790.0, "123456790.0"),
+            (123456790.0, "1.2345679e+08"),
             (f32::NAN, "nan"),
             (f32::INFINITY, "inf"),
             (f32::NEG_INFINITY, "-inf"),

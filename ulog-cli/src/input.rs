@@ -1,0 +1,37 @@
+//! Opening and parsing the log named on the command line, with one clear line when it
+//! cannot be read.
+
+use std::path::Path;
+
+use ulog_core::{Error, ErrorKind, MappedFile, ULog};
+
+use crate::failure::{io_text, Failure};
+
+/// Maps the file at `path`; a missing, unreadable or directory path is a failure.
+pub fn open(path: &Path) -> Result<MappedFile, Failure> {
+    let shown = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| Failure::about(&shown, io_text(&e)))?;
+    if meta.is_dir() {
+        return Err(Failure::about(&shown, "is a directory"));
+    }
+    MappedFile::open(path).map_err(|e| Failure::about(&shown, error_text(&e)))
+}
+
+/// Parses `bytes`; a file that is not a ULog log, or one the spec says to refuse, is a
+/// failure about `name`.
+pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
+    ULog::parse(bytes).map_err(|e| Failure::about(name, error_text(&e)))
+}
+
+/// A library error as one line: the kind, and the byte offset where one applies.
+pub fn error_text(e: &Error) -> String {
+    match &e.kind {
+        // The library's I/O text already names the file; the caller names it too.
+        ErrorKind::Io(s) => match s.rsplit_once(": ") {
+            Some((_, tail)) => tail.to_owned(),
+            None => s.clone(),
+        },
+        kind if e.offset == 0 => kind.to_string(),
+        kind => format!("{kind} (at byte {})", e.offset),
+    }
+}

@@ -1,0 +1,205 @@
+//! `ulog params`: the parameters, as pyulog's `ulog_params` writes them.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
+
+use ulog_core::{ULog, Value};
+
+use crate::failure::{io_text, Failure};
+use crate::input;
+use crate::pyfmt::py_str;
+
+/// Print the parameters sorted by name, exactly as pyulog's `ulog_params` does.
+///
+/// csv: `name,value[,changed value…]` (`--timestamps`: a second line
+/// `timestamp,0[,time of change…]` per parameter). octave: `# name`, `# type: scalar`
+/// or a `matrix` of the value and its changes. qgc: `1<TAB>1<TAB>name<TAB>value<TAB>type`
+/// (9 float, 6 integer). Values print as Python prints them: `float` parameters as the
+/// double they widen to (`0.10000000149011612`).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The ULog file.
+    file: PathBuf,
+    /// Output file (default: stdout).
+    output: Option<PathBuf>,
+    /// Only the initial values, no changes (csv, octave). As in ulog_params, with
+    /// `--timestamps` the changes are still listed, all at the start time.
+    #[arg(short = 'i', long)]
+    initial: bool,
+    /// The default values of this kind instead of the configured ones (implies
+    /// `--initial`).
+    #[arg(short = 'd', long, value_name = "KIND")]
+    default: Option<DefaultKind>,
+    /// Output format.
+    #[arg(short = 'f', long, value_enum, default_value = "csv")]
+    format: OutputFormat,
+    /// csv: list the changes with their timestamps.
+    #[arg(short = 't', long)]
+    timestamps: bool,
+    /// csv delimiter.
+    #[arg(short = 'l', long, default_value = ",", value_name = "DELIM")]
+    delimiter: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum DefaultKind {
+    /// System-wide defaults (default_types bit 0).
+    System,
+    /// Defaults of the current configuration, e.g. the airframe (bit 1).
+    #[value(name = "current_setup")]
+    CurrentSetup,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum OutputFormat {
+    Csv,
+    Octave,
+    Qgc,
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let name = args.file.display().to_string();
+    let file = input::open(&args.file)?;
+    let log = input::parse(&name, file.bytes())?;
+    let (out_name, sink): (String, Box<dyn Write>) = match &args.output {
+        Some(p) => {
+            let f = File::create(p).map_err(|e| Failure::about(p.display(), io_text(&e)))?;
+            (p.display().to_string(), Box::new(f))
+        }
+        None => ("stdout".to_owned(), Box::new(io::stdout().lock())),
+    };
+    let mut out = BufWriter::new(sink);
+    let text = render(&log, args).map_err(|m| Failure::about(&name, m))?;
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| Failure::io(&out_name, &e))
+}
+
+/// A parameter value: Python's `str()` of it, and whether Python holds it as a float.
+struct Param {
+    text: String,
+    is_float: bool,
+}
+
+impl Param {
+    fn of(v: Value<'_>) -> Param {
+        Param {
+            text: py_str(&v),
+            is_float: matches!(v, Value::F32(_) | Value::F64(_)),
+        }
+    }
+}
+
+fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
+    let mut params: BTreeMap<String, Param> = BTreeMap::new();
+    let mut initial = args.initial;
+    match args.default {
+        None => {
+            for kv in log.initial_params() {
+                params.insert(kv.name().into_owned(), Param::of(kv.value()));
+            }
+        }
+        Some(kind) => {
+            let has_defaults = log.flag_bits().is_some_and(|f| f.has_default_parameters());
+            if !has_defaults {
+                return Err(
+                    "the log has no default parameters (compat flag DEFAULT_PARAMETERS is not set)"
+                        .into(),
+                );
+            }
+            let bit = if kind == DefaultKind::System { 1 } else { 2 };
+            for d in log
+                .default_params()
+                .iter()
+                .filter(|d| d.default_types & bit != 0)
+            {
+                params.insert(d.kv.name().into_owned(), Param::of(d.kv.value()));
+            }
+            initial = true;
+        }
+    }
+    // ulog_params reads no data with --initial, so every change is stamped with the
+    // start time.
+    let changes: Vec<(String, u64, String)> = log
+        .param_changes()
+        .iter()
+        .map(|c| {
+            let t = if args.initial {
+                log.start_timestamp()
+            } else {
+                c.timestamp
+            };
+            (c.kv.name().into_owned(), t, py_str(&c.kv.value()))
+        })
+        .collect();
+    fn changes_of<'c>(
+        changes: &'c [(String, u64, String)],
+        key: &'c str,
+    ) -> impl Iterator<Item = &'c (String, u64, String)> {
+        changes.iter().filter(move |c| c.0 == key)
+    }
+
+    let d = &args.delimiter;
+    let mut s = String::new();
+    for (key, p) in &params {
+        match args.format {
+            OutputFormat::Csv if args.timestamps => {
+                s.push_str(key);
+                s.push_str(d);
+                s.push_str(&p.text);
+                for c in changes_of(&changes, key) {
+                    s.push_str(d);
+                    s.push_str(&c.2);
+                }
+                s.push_str("\ntimestamp");
+                s.push_str(d);
+                s.push('0');
+                for c in changes_of(&changes, key) {
+                    s.push_str(d);
+                    s.push_str(&c.1.to_string());
+                }
+                s.push('\n');
+            }
+            OutputFormat::Csv => {
+                s.push_str(key);
+                s.push_str(d);
+                s.push_str(&p.text);
+                if !initial {
+                    for c in changes_of(&changes, key) {
+                        s.push_str(d);
+                        s.push_str(&c.2);
+                    }
+                }
+                s.push('\n');
+            }
+            OutputFormat::Octave => {
+                s.push_str("# name ");
+                s.push_str(key);
+                let mut values = vec![p.text.as_str()];
+                if !initial {
+                    values.extend(changes_of(&changes, key).map(|c| c.2.as_str()));
+                }
+                if values.len() > 1 {
+                    s.push_str("\n# type: matrix\n# rows: 1\n# columns: ");
+                    s.push_str(&values.len().to_string());
+                    s.push('\n');
+                    for v in values {
+                        s.push_str(v);
+                        s.push(' ');
+                    }
+                } else {
+                    s.push_str("\n# type: scalar\n");
+                    s.push_str(values[0]);
+                }
+                s.push('\n');
+            }
+            OutputFormat::Qgc => {
+                let ty = if p.is_float { 9 } else { 6 };
+                s.push_str(&format!("1\t1\t{key}\t{}\t{ty}\n", p.text));
+            }
+        }
+    }
+    Ok(s)
+}

@@ -1,0 +1,121 @@
+//! Helpers shared by the integration tests: running the built `ulog`, finding the
+//! corpus, scratch folders.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the built `ulog` with `args`.
+pub fn ulog<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_ulog"))
+        .args(args)
+        .output()
+        .expect("run ulog")
+}
+
+/// Runs `ulog` and returns its stdout, failing the test on a non-zero exit.
+pub fn ulog_ok<I, S>(args: I) -> String
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    let out = ulog(args);
+    assert!(
+        out.status.success(),
+        "ulog failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8 output")
+}
+
+/// The real-log corpus (`$ULOG_CORPUS`, or `../shared/corpus` beside the workspace),
+/// or `None` after printing a SKIPPED line.
+pub fn corpus(test: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("ULOG_CORPUS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus"))
+        });
+    if dir.join("files").is_dir() && dir.join("expected").is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "SKIPPED {test}: no corpus at {} (set ULOG_CORPUS)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// Every `.ulg` file of the corpus with its stem, sorted.
+pub fn corpus_logs(dir: &Path) -> Vec<(String, PathBuf)> {
+    let mut v: Vec<(String, PathBuf)> = std::fs::read_dir(dir.join("files"))
+        .expect("corpus files")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ulg"))
+        .map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), p))
+        .collect();
+    v.sort();
+    v
+}
+
+/// pyulog's summary of a corpus log.
+pub fn summary(dir: &Path, stem: &str) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("expected").join(stem).join("summary.json"))
+        .expect("summary.json");
+    serde_json::from_str(&text).expect("summary json")
+}
+
+/// An empty scratch folder for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("ulog-cli")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// The bundled sample log written to a file of the scratch folder `name`.
+pub fn sample_file(name: &str) -> PathBuf {
+    let path = scratch(name).join("sample.ulg");
+    std::fs::write(&path, ulog_core::testing::sample_log()).expect("write sample");
+    path
+}
+
+/// Logs where this reader recovers data messages after mid-stream corruption that
+/// pyulog skips (pyulog only resynchronises at the next sync message, and drops what
+/// lies between): our CSVs and row counts may hold extra rows there.
+pub const RECOVERS_ROWS: &[&str] = &["corrupt_format_not_utf8", "corrupt_unregistered_msg_id"];
+
+/// How pyulog's scripts print a logged string (`H:MM:SS.mmm LEVEL: text`).
+pub fn message_line(level: u64, timestamp: u64, text: &str) -> String {
+    let names = [
+        "EMERGENCY",
+        "ALERT",
+        "CRITICAL",
+        "ERROR",
+        "WARNING",
+        "NOTICE",
+        "INFO",
+        "DEBUG",
+    ];
+    let name = level
+        .checked_sub(u64::from(b'0'))
+        .and_then(|i| names.get(i as usize))
+        .copied()
+        .unwrap_or("UNKNOWN");
+    let ms = timestamp / 1000;
+    let s = ms / 1000;
+    format!(
+        "{}:{:02}:{:02}.{:03} {name}: {text}",
+        s / 3600,
+        s / 60 % 60,
+        s % 60,
+        ms % 1000
+    )
+}
