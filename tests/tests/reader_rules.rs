@@ -658,3 +658,50 @@ fn data_messages_carry_their_payload_and_subscription() {
     }
     assert!(seen);
 }
+
+#[test]
+fn a_zero_filled_tail_is_reported_as_one_stretch() {
+    let mut b = base();
+    b.data(0, &t_payload(1, 1));
+    b.data(0, &t_payload(2, 2));
+    let end = b.bytes().len() as u64;
+    b.garbage(&[0; 5000]);
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert_eq!(values(&log, "t", 0, "v"), ["1", "2"]);
+    let f: Vec<_> = log
+        .findings()
+        .iter()
+        .map(|f| (f.kind.clone(), f.offset, f.len))
+        .collect();
+    assert_eq!(f, [(FindingKind::Corrupt(Corruption::ZeroFill), end, 5000)]);
+    assert!(!log.is_truncated());
+    // A data message of the wrong size right before the zeros is reported as itself.
+    let mut b = base();
+    b.data(0, &t_payload(1, 1));
+    let at = b.bytes().len() as u64;
+    b.data(0, &[0; 28]);
+    b.garbage(&[0; 100]);
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    let f: Vec<_> = log
+        .findings()
+        .iter()
+        .map(|f| (f.kind.clone(), f.offset, f.len))
+        .collect();
+    assert_eq!(
+        f,
+        [
+            (
+                FindingKind::SizeMismatch {
+                    msg_id: 0,
+                    expected: (16, 12),
+                    found: 28
+                },
+                at,
+                33
+            ),
+            (FindingKind::Corrupt(Corruption::ZeroFill), at + 33, 100)
+        ]
+    );
+}
