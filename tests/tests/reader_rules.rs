@@ -35,7 +35,7 @@ fn header_errors_say_what_was_found() {
     assert_eq!(
         kind(&[0u8; 4096]),
         ErrorKind::NotULog {
-            found: "4096 zero bytes".into()
+            found: "zero bytes where the header should be".into()
         }
     );
     assert_eq!(
@@ -704,4 +704,18 @@ fn a_zero_filled_tail_is_reported_as_one_stretch() {
             (FindingKind::Corrupt(Corruption::ZeroFill), at + 33, 100)
         ]
     );
+}
+
+/// Regression (fuzz target `chunked`): the whole-file and the incremental reader
+/// described a non-ULog file differently when its first bytes were zero and later
+/// ones were not.
+#[test]
+fn not_ulog_is_described_from_the_first_bytes_only() {
+    let mut bytes = vec![0u8; 46];
+    bytes.extend_from_slice(&[0xff; 10]);
+    let whole = ULog::parse(&bytes).unwrap_err();
+    let mut inc = Incremental::new();
+    inc.push(&bytes[..20]);
+    let chunked = inc.advance().unwrap_err();
+    assert_eq!(whole, chunked);
 }

@@ -208,8 +208,10 @@ pub(crate) fn describe_non_ulog(bytes: &[u8]) -> String {
         (b"\xa3\x95", "an APM/PX4 DataFlash log"),
         (b"ULog", "a ULog magic with wrong trailing bytes"),
     ];
-    if bytes.iter().all(|&b| b == 0) {
-        return format!("{} zero bytes", bytes.len().min(1 << 20));
+    // Only the first 16 bytes are looked at, so that the whole-file and the
+    // incremental reader describe a file the same way.
+    if head.iter().all(|&b| b == 0) {
+        return "zero bytes where the header should be".to_owned();
     }
     for (magic, what) in known {
         if head.starts_with(magic) {
