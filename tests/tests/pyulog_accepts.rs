@@ -129,35 +129,39 @@ fn json_eq(e: &J, ours: &Value) -> bool {
     }
 }
 
-#[test]
-fn pyulog_reads_every_value_we_write() {
+/// pyulog's reading of `bytes` as JSON, or `None` (test skipped) without pyulog.
+fn pyulog_dump(test: &str, bytes: &[u8]) -> Option<J> {
     let ok = Command::new("python3")
         .args(["-c", "import pyulog"])
         .output();
     if !ok.is_ok_and(|o| o.status.success()) {
-        eprintln!("pyulog_reads_every_value_we_write: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
-        return;
+        eprintln!("{test}: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
+        return None;
     }
-    let bytes = write_sample();
-    let dir = std::env::temp_dir().join(format!("ulog-pyulog-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("written.ulg");
-    std::fs::write(&path, &bytes).unwrap();
+    std::fs::write(&path, bytes).unwrap();
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/pyulog_dump.py");
     let out = Command::new("python3")
         .arg(script)
         .arg(&path)
         .output()
         .unwrap();
+    std::fs::remove_dir_all(&dir).ok();
     assert!(
         out.status.success(),
         "pyulog failed: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let py: J = serde_json::from_slice(&out.stdout).unwrap();
-    std::fs::remove_dir_all(&dir).ok();
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}
 
-    let log = ULog::parse(&bytes).unwrap();
+/// Every value pyulog read equals ours: information, parameters, logged strings,
+/// dropouts and every column of every topic.
+fn assert_pyulog_reads_what_we_read(py: &J, bytes: &[u8]) {
+    let log = ULog::parse(bytes).unwrap();
+    assert!(log.findings().is_empty(), "{:?}", log.findings());
     assert_eq!(py["corrupt"], J::Bool(false));
     for kv in log.info() {
         assert!(
@@ -166,10 +170,6 @@ fn pyulog_reads_every_value_we_write() {
             kv.name()
         );
     }
-    assert_eq!(
-        py["info_multi"]["console"],
-        serde_json::json!([["first, ", "second"]])
-    );
     for kv in log.initial_params() {
         assert!(
             json_eq(&py["params"][&*kv.name()], &kv.value()),
@@ -177,14 +177,36 @@ fn pyulog_reads_every_value_we_write() {
             kv.name()
         );
     }
-    assert_eq!(py["changed"][0][1], "MPC_XY_VEL_MAX");
-    assert_eq!(py["changed"][0][2], 8.0);
-    assert_eq!(py["logged"][0][2], "[logger] started");
-    assert_eq!(py["tagged"]["7"][0][2], "tagged warning");
-    assert_eq!(py["dropouts"][0][1], 15);
+    let changed = py["changed"].as_array().unwrap();
+    assert_eq!(changed.len(), log.param_changes().len());
+    for (e, c) in changed.iter().zip(log.param_changes()) {
+        assert_eq!(e[0], J::from(c.timestamp));
+        assert_eq!(e[1], J::from(c.kv.name().into_owned()));
+        assert!(json_eq(&e[2], &c.kv.value()));
+    }
+    let plain: Vec<_> = log
+        .logged_messages()
+        .iter()
+        .filter(|l| l.tag.is_none())
+        .collect();
+    let logged = py["logged"].as_array().unwrap();
+    assert_eq!(logged.len(), plain.len());
+    for (e, l) in logged.iter().zip(plain) {
+        assert_eq!(
+            (e[0].as_u64(), e[1].as_u64()),
+            (Some(u64::from(l.raw_level)), Some(l.timestamp))
+        );
+        assert_eq!(e[2].as_str(), l.text.as_str());
+    }
+    let drops: Vec<J> = log
+        .dropouts()
+        .iter()
+        .map(|d| J::from(vec![d.timestamp, u64::from(d.duration_ms)]))
+        .collect();
+    assert_eq!(py["dropouts"], J::from(drops));
 
     let topics = py["topics"].as_object().unwrap();
-    assert_eq!(topics.len(), 3);
+    assert_eq!(topics.len(), log.topics().filter(|t| !t.is_empty()).count());
     for t in log.topics() {
         let cols = &topics[&format!("{}/{}", t.name(), t.multi_id())];
         let mut compared = 0;
@@ -195,9 +217,9 @@ fn pyulog_reads_every_value_we_write() {
                     for (row, p) in t.payloads().enumerate() {
                         let s = c.read(p).unwrap();
                         let bytes = s.as_str().unwrap().as_bytes();
-                        for i in 0..n {
+                        for (i, &b) in bytes.iter().enumerate().take(n) {
                             let e = &cols[&format!("{}[{i}]", c.path())][row];
-                            assert_eq!(e.as_i64(), Some(i64::from(bytes[i] as i8)));
+                            assert_eq!(e.as_i64(), Some(i64::from(b as i8)));
                         }
                     }
                 }
@@ -221,4 +243,35 @@ fn pyulog_reads_every_value_we_write() {
         }
         assert!(compared > 0);
     }
+}
+
+#[test]
+fn pyulog_reads_every_value_we_write() {
+    let bytes = write_sample();
+    let Some(py) = pyulog_dump("every_value", &bytes) else {
+        return;
+    };
+    assert_pyulog_reads_what_we_read(&py, &bytes);
+    assert_eq!(
+        py["info_multi"]["console"],
+        serde_json::json!([["first, ", "second"]])
+    );
+    assert_eq!(py["tagged"]["7"][0][2], "tagged warning");
+    assert_eq!(py["topics"].as_object().unwrap().len(), 3);
+}
+
+#[test]
+fn pyulog_reads_the_simulated_flight_example() {
+    let bytes = ulog_examples::simulation::simulate_flight(Vec::new()).unwrap();
+    let Some(py) = pyulog_dump("simulated_flight", &bytes) else {
+        return;
+    };
+    assert_pyulog_reads_what_we_read(&py, &bytes);
+    assert_eq!(
+        py["topics"]["vehicle_attitude/0"]["q[0]"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3001
+    );
 }

@@ -224,3 +224,22 @@ fn views_borrow_exact_full_payloads() {
         DecodeErrorKind::ViewNeedsExactLayout
     );
 }
+
+#[test]
+fn char_arrays_decode_as_text() {
+    #[derive(ULogMessage, Debug)]
+    struct Named {
+        id: u8,
+        name: CharArray<6>,
+        #[ulog(char)]
+        raw: [u8; 3],
+    }
+    let format = Format::parse("named:uint8_t id;char[6] name;char[3] raw;").unwrap();
+    assert_eq!(Named::schema().format(), &format);
+    let layout = Layout::resolve("named", &[format][..]).unwrap();
+    let n = Plan::<Named>::new(&layout)
+        .unwrap()
+        .decode(b"\x07PX4\0\0\0abc")
+        .unwrap();
+    assert_eq!((n.id, n.name.as_str(), &n.raw), (7, Ok("PX4"), b"abc"));
+}

@@ -29,12 +29,14 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
     let mut defs = Vec::new();
     let mut is_wire = Vec::new();
     let mut asserts = Vec::new();
+    let mut visits = Vec::new();
     for f in &m.fields {
         let fi = &f.ident;
         let fname = &f.name;
         let aliases = &f.aliases;
         let (wire_ty, from, to, kind, len, wire_ok) = match &f.shape {
             Shape::Scalar(ty) => {
+                visits.push(quote!(#private::visit_field(&self.#fi, path, base, #fname, f);));
                 asserts.push(quote_spanned!(f.span=> #private::assert_field::<#ty>();));
                 (
                     quote!(<#ty as #wf>::Wire),
@@ -46,6 +48,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 )
             }
             Shape::Array { elem, len } => {
+                visits.push(quote!(#private::visit_array(&self.#fi, path, base, #fname, f);));
                 asserts.push(quote_spanned!(f.span=> #private::assert_array_element::<#elem>();));
                 (
                     quote!([<#elem as #wf>::Wire; #len]),
@@ -57,6 +60,14 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 )
             }
             Shape::CharBytes { len } => {
+                visits.push(match len {
+                    Some(_) => {
+                        quote!(#private::visit_chars(&self.#fi, false, path, base, #fname, f);)
+                    }
+                    None => quote!(
+                        #private::visit_chars(&[self.#fi], true, path, base, #fname, f);
+                    ),
+                });
                 let (ty, count) = match len {
                     Some(len) => (
                         quote!([u8; #len]),
@@ -108,6 +119,11 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
         ));
     }
     let n = defs.len();
+    let visit_body = if visits.is_empty() {
+        quote!(let _ = (path, f);)
+    } else {
+        quote!(let base = path.len(); #(#visits)*)
+    };
     quote! {
         #[allow(non_snake_case, clippy::all)]
         const _: () = {
@@ -145,6 +161,13 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 fn to_wire(&self) -> #wire {
                     #wire { #(#to_wire,)* }
                 }
+                fn visit_values(
+                    &self,
+                    path: &mut ::std::string::String,
+                    f: &mut dyn ::core::ops::FnMut(&str, #private::Value<'_>),
+                ) {
+                    #visit_body
+                }
             }
 
             #[automatically_derived]
@@ -180,6 +203,12 @@ pub(crate) fn stub(m: &Message) -> TokenStream {
                     ::core::unreachable!()
                 }
                 fn to_wire(&self) {}
+                fn visit_values(
+                    &self,
+                    _: &mut ::std::string::String,
+                    _: &mut dyn ::core::ops::FnMut(&str, #typed::__private::Value<'_>),
+                ) {
+                }
             }
             #[automatically_derived]
             impl #typed::ArrayElement for #ident {}

@@ -86,7 +86,14 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
     }
     let paths = Paths::new(input.krate);
     let mut errors = Errors::default();
-    let structs = emit_structs(&sources, &paths, &mut errors, true);
+    let mut bound = Vec::new();
+    let structs = emit_structs(&sources, &paths, &mut errors, true, &mut bound);
+    let typed = paths.typed();
+    let visit_body = if bound.is_empty() {
+        quote!(let _ = visitor;)
+    } else {
+        quote!(#(visitor.visit::<#bound>();)*)
+    };
     let errors = errors.to_compile_errors();
     let vis = &input.vis;
     let ident = &input.ident;
@@ -109,6 +116,11 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
             // Rebuild when the log changes.
             const _: &[u8] = ::core::include_bytes!(#file_text);
             #structs
+
+            /// Calls `visitor` with each binding of the module, in the log's order.
+            pub fn visit_bindings<V: #typed::BindingVisitor + ?::core::marker::Sized>(visitor: &mut V) {
+                #visit_body
+            }
         }
         #errors
     }

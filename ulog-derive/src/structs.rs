@@ -130,7 +130,7 @@ pub(crate) fn from_format_strings(tokens: TokenStream) -> TokenStream {
         }
     }
     let paths = Paths::new(input.krate);
-    let mut out = emit_structs(&sources, &paths, &mut errors, false);
+    let mut out = emit_structs(&sources, &paths, &mut errors, false, &mut Vec::new());
     out.extend(errors.to_compile_errors());
     out
 }
@@ -171,12 +171,14 @@ pub(crate) fn struct_idents(sources: &[Source]) -> HashMap<String, Ident> {
 
 /// Emits a struct and its implementations per source. Formats whose layout fails
 /// (unknown or circular nested types, too large) are reported, or skipped silently
-/// when `skip_bad` (a whole log's formats).
+/// when `skip_bad` (a whole log's formats). The structs that got real (not stand-in)
+/// implementations are pushed to `bound`.
 pub(crate) fn emit_structs(
     sources: &[Source],
     paths: &Paths,
     errors: &mut Errors,
     skip_bad: bool,
+    bound: &mut Vec<Ident>,
 ) -> TokenStream {
     let formats: Vec<Format> = sources.iter().map(|s| s.format.clone()).collect();
     let idents = struct_idents(sources);
@@ -297,6 +299,7 @@ pub(crate) fn emit_structs(
         };
         out.extend(struct_definition(&message, &s.text, &f.to_string()));
         out.extend(if ok {
+            bound.push(ident.clone());
             expand::expand(&message)
         } else {
             expand::stub(&message)

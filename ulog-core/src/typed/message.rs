@@ -5,6 +5,7 @@ use zerocopy::{FromZeros, IntoBytes};
 
 use super::schema::Schema;
 use super::wire::WireField;
+use crate::value::Value;
 
 /// A Rust struct bound to a ULog message: its name, its format and the nested
 /// formats it needs, and the conversion from and to payload bytes.
@@ -48,4 +49,58 @@ pub trait ULogMessage: WireField {
         self.encode_into(&mut out);
         out
     }
+
+    /// Calls `f` with the path and value of every leaf field, padding left out, in
+    /// the binding's order: the columns the reader's `Topic::columns` names
+    /// (`timestamp`, `q[0]`, `esc[3].esc_rpm`; a `char[N]` is one [`Value::Str`] of
+    /// all `N` bytes).
+    ///
+    /// ```
+    /// # #[cfg(feature = "derive")] {
+    /// use ulog_core::typed::ULogMessage;
+    /// use ulog_core::Value;
+    ///
+    /// #[derive(ULogMessage)]
+    /// #[ulog(crate = "ulog_core")]
+    /// struct Sensor { timestamp: u64, xyz: [f32; 2], _padding0: [u8; 3], ok: bool }
+    ///
+    /// let s = Sensor { timestamp: 5, xyz: [1.5, -2.0], _padding0: [0; 3], ok: true };
+    /// let mut columns = Vec::new();
+    /// s.visit_fields(&mut |path, value| columns.push(format!("{path}={value}")));
+    /// assert_eq!(columns, ["timestamp=5", "xyz[0]=1.5", "xyz[1]=-2.0", "ok=1"]);
+    /// # }
+    /// ```
+    fn visit_fields(&self, f: &mut dyn FnMut(&str, Value<'_>)) {
+        let mut path = String::new();
+        self.visit_values(&mut path, f);
+    }
+}
+
+/// Something done with each binding of a generated module, by type: the module that
+/// `ulog_module!` emits has a `visit_bindings` function that calls
+/// [`visit`](BindingVisitor::visit) once per struct, so that code can go over a
+/// log's whole schema without naming each type.
+///
+/// ```
+/// # #[cfg(feature = "derive")] {
+/// use ulog_core::typed::{BindingVisitor, ULogMessage};
+///
+/// #[derive(ULogMessage)]
+/// #[ulog(crate = "ulog_core")]
+/// struct Cpuload { timestamp: u64, load: f32 }
+///
+/// struct Sizes(Vec<(&'static str, usize)>);
+/// impl BindingVisitor for Sizes {
+///     fn visit<T: ULogMessage>(&mut self) {
+///         self.0.push((T::NAME, T::layout().size()));
+///     }
+/// }
+/// let mut sizes = Sizes(Vec::new());
+/// sizes.visit::<Cpuload>();
+/// assert_eq!(sizes.0, [("cpuload", 12)]);
+/// # }
+/// ```
+pub trait BindingVisitor {
+    /// Called once per binding type `T`.
+    fn visit<T: ULogMessage>(&mut self);
 }

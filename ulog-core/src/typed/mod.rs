@@ -25,7 +25,7 @@ mod wire;
 
 pub use chars::CharArray;
 pub use error::{DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch};
-pub use message::ULogMessage;
+pub use message::{BindingVisitor, ULogMessage};
 pub use plan::{Plan, PlanKind};
 pub use schema::{FieldDef, Schema};
 pub use topics::{
@@ -42,6 +42,8 @@ pub use ulog_derive::{ulog_module, ulog_structs, ULogMessage, ULogTopics};
 /// What generated code names; not a public API.
 #[doc(hidden)]
 pub mod __private {
+    pub use super::wire::{visit_array, visit_chars, visit_field};
+    pub use crate::value::Value;
     pub use std::sync::OnceLock;
     pub use ulog_format::{BasicType, Layout};
     pub use zerocopy;

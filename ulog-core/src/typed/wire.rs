@@ -13,6 +13,7 @@ use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
 
 use super::chars::CharArray;
 use super::schema::Schema;
+use crate::value::{Str, Value};
 
 /// The ULog type of one value of a field: a basic type, or a nested message.
 #[derive(Debug, Clone, Copy)]
@@ -48,6 +49,10 @@ pub trait WireField: Sized {
     fn from_wire(wire: &Self::Wire) -> Self;
     /// The wire image of a value.
     fn to_wire(&self) -> Self::Wire;
+    /// Calls `f` with `path` and the value of each leaf of `self`: the value itself
+    /// for basic types and `char[N]`, each field (with `.name` appended to `path`)
+    /// for bindings. See [`ULogMessage::visit_fields`](super::ULogMessage::visit_fields).
+    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>));
 }
 
 /// A field type that can be the element of an array field (`[T; N]`): every
@@ -59,7 +64,7 @@ pub trait WireField: Sized {
 pub trait ArrayElement: WireField {}
 
 macro_rules! same_bytes {
-    ($($t:ty => $basic:ident),*) => {$(
+    ($($t:ty => $basic:ident, $value:ident, $native:ty),*) => {$(
         impl WireField for $t {
             type Wire = $t;
             const KIND: FieldKind = FieldKind::Basic(BasicType::$basic);
@@ -70,19 +75,24 @@ macro_rules! same_bytes {
             fn to_wire(&self) -> $t {
                 *self
             }
+            fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+                f(path, Value::$value(<$native as WireField>::from_wire(self)));
+            }
         }
         impl ArrayElement for $t {}
     )*};
 }
 
 same_bytes!(
-    u8 => UInt8, i8 => Int8,
-    le::U16 => UInt16, le::I16 => Int16, le::U32 => UInt32, le::I32 => Int32,
-    le::U64 => UInt64, le::I64 => Int64, le::F32 => Float, le::F64 => Double
+    u8 => UInt8, U8, u8, i8 => Int8, I8, i8,
+    le::U16 => UInt16, U16, u16, le::I16 => Int16, I16, i16,
+    le::U32 => UInt32, U32, u32, le::I32 => Int32, I32, i32,
+    le::U64 => UInt64, U64, u64, le::I64 => Int64, I64, i64,
+    le::F32 => Float, F32, f32, le::F64 => Double, F64, f64
 );
 
 macro_rules! little_endian {
-    ($($t:ty => $wire:ty, $basic:ident),*) => {$(
+    ($($t:ty => $wire:ty, $basic:ident, $value:ident),*) => {$(
         impl WireField for $t {
             type Wire = $wire;
             const KIND: FieldKind = FieldKind::Basic(BasicType::$basic);
@@ -92,15 +102,18 @@ macro_rules! little_endian {
             fn to_wire(&self) -> $wire {
                 <$wire>::new(*self)
             }
+            fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+                f(path, Value::$value(*self));
+            }
         }
         impl ArrayElement for $t {}
     )*};
 }
 
 little_endian!(
-    u16 => le::U16, UInt16, i16 => le::I16, Int16, u32 => le::U32, UInt32,
-    i32 => le::I32, Int32, u64 => le::U64, UInt64, i64 => le::I64, Int64,
-    f32 => le::F32, Float, f64 => le::F64, Double
+    u16 => le::U16, UInt16, U16, i16 => le::I16, Int16, I16, u32 => le::U32, UInt32, U32,
+    i32 => le::I32, Int32, I32, u64 => le::U64, UInt64, U64, i64 => le::I64, Int64, I64,
+    f32 => le::F32, Float, F32, f64 => le::F64, Double, F64
 );
 
 impl WireField for bool {
@@ -112,6 +125,9 @@ impl WireField for bool {
     }
     fn to_wire(&self) -> u8 {
         u8::from(*self)
+    }
+    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        f(path, Value::Bool(*self));
     }
 }
 impl ArrayElement for bool {}
@@ -127,6 +143,71 @@ impl<const N: usize> WireField for CharArray<N> {
     fn to_wire(&self) -> CharArray<N> {
         *self
     }
+    /// The whole `N` bytes, as the reader gives a `char[N]` field.
+    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        f(path, Value::Str(Str(self.as_bytes())));
+    }
+}
+
+/// Visits field `name` of a binding whose path is `path[..base]` (generated code).
+pub fn visit_field<T: WireField>(
+    value: &T,
+    path: &mut String,
+    base: usize,
+    name: &str,
+    f: &mut dyn FnMut(&str, Value<'_>),
+) {
+    field_path(path, base, name);
+    value.visit_values(path, f);
+    path.truncate(base);
+}
+
+/// Visits array field `name` element by element, as `name[i]` (generated code).
+pub fn visit_array<T: WireField>(
+    values: &[T],
+    path: &mut String,
+    base: usize,
+    name: &str,
+    f: &mut dyn FnMut(&str, Value<'_>),
+) {
+    for (i, value) in values.iter().enumerate() {
+        field_path(path, base, name);
+        push_index(path, i);
+        value.visit_values(path, f);
+    }
+    path.truncate(base);
+}
+
+/// Visits a `char[N]` held as `[u8; N]`, or one `char` (`single`) held as a `u8`
+/// (generated code).
+pub fn visit_chars(
+    bytes: &[u8],
+    single: bool,
+    path: &mut String,
+    base: usize,
+    name: &str,
+    f: &mut dyn FnMut(&str, Value<'_>),
+) {
+    field_path(path, base, name);
+    match (single, bytes.first()) {
+        (true, Some(&c)) => f(path, Value::Char(c)),
+        _ => f(path, Value::Str(Str(bytes))),
+    }
+    path.truncate(base);
+}
+
+fn field_path(path: &mut String, base: usize, name: &str) {
+    path.truncate(base);
+    if base > 0 {
+        path.push('.');
+    }
+    path.push_str(name);
+}
+
+fn push_index(path: &mut String, i: usize) {
+    use core::fmt::Write;
+    // Writing to a String cannot fail.
+    let _ = write!(path, "[{i}]");
 }
 
 #[cfg(test)]

@@ -76,6 +76,42 @@ const _: () = {
                 code: self.code,
             }
         }
+        fn visit_values(
+            &self,
+            path: &mut ::std::string::String,
+            f: &mut dyn ::core::ops::FnMut(&str, ::my_ulog::typed::__private::Value<'_>),
+        ) {
+            let base = path.len();
+            ::my_ulog::typed::__private::visit_field(
+                &self.timestamp,
+                path,
+                base,
+                "timestamp",
+                f,
+            );
+            ::my_ulog::typed::__private::visit_array(
+                &self.reports,
+                path,
+                base,
+                "esc",
+                f,
+            );
+            ::my_ulog::typed::__private::visit_field(
+                &self.label,
+                path,
+                base,
+                "label",
+                f,
+            );
+            ::my_ulog::typed::__private::visit_chars(
+                &self.code,
+                false,
+                path,
+                base,
+                "code",
+                f,
+            );
+        }
     }
     #[automatically_derived]
     impl ::my_ulog::typed::ArrayElement for Esc {}

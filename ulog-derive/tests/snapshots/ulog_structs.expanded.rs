@@ -114,6 +114,38 @@ const _: () = {
                 _padding0: [0u8; 4usize],
             }
         }
+        fn visit_values(
+            &self,
+            path: &mut ::std::string::String,
+            f: &mut dyn ::core::ops::FnMut(
+                &str,
+                ::ulog_core::typed::__private::Value<'_>,
+            ),
+        ) {
+            let base = path.len();
+            ::ulog_core::typed::__private::visit_field(
+                &self.timestamp,
+                path,
+                base,
+                "timestamp",
+                f,
+            );
+            ::ulog_core::typed::__private::visit_array(&self.q, path, base, "q", f);
+            ::ulog_core::typed::__private::visit_field(
+                &self.r#type,
+                path,
+                base,
+                "type",
+                f,
+            );
+            ::ulog_core::typed::__private::visit_field(
+                &self.name,
+                path,
+                base,
+                "name",
+                f,
+            );
+        }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for VehicleAttitude {}
@@ -238,6 +270,23 @@ const _: () = {
                     &self.both[i],
                 )),
             }
+        }
+        fn visit_values(
+            &self,
+            path: &mut ::std::string::String,
+            f: &mut dyn ::core::ops::FnMut(
+                &str,
+                ::ulog_core::typed::__private::Value<'_>,
+            ),
+        ) {
+            let base = path.len();
+            ::ulog_core::typed::__private::visit_array(
+                &self.both,
+                path,
+                base,
+                "both",
+                f,
+            );
         }
     }
     #[automatically_derived]

@@ -1,0 +1,71 @@
+//! Finds the shared corpus of real logs (`../../shared/corpus/files` from this
+//! package) and, when it is there, writes the `ulog_module!` invocations of the
+//! typed corpus tests: one module per log, the logs dealt round-robin into shards so
+//! that the test crates (`tests/typed_corpus_N.rs`) compile in parallel. Sets
+//! `cfg(has_corpus)`; without the corpus the tests compile and say they skipped.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The number of `typed_corpus_N.rs` test crates the logs are dealt into.
+const SHARDS: usize = 4;
+/// The corpus, relative to this package (`ulog_module!` paths are too).
+const CORPUS_FILES: &str = "../../shared/corpus/files";
+
+fn main() {
+    println!("cargo::rustc-check-cfg=cfg(has_corpus)");
+    println!("cargo::rerun-if-changed=build.rs");
+    println!("cargo::rerun-if-changed={CORPUS_FILES}");
+    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR");
+    let out = std::env::var("OUT_DIR").expect("OUT_DIR");
+    let dir = Path::new(&manifest).join(CORPUS_FILES);
+    let mut stems: Vec<String> = match std::fs::read_dir(&dir) {
+        Ok(entries) => entries
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "ulg"))
+            .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    stems.sort();
+    if !stems.is_empty() {
+        println!("cargo::rustc-cfg=has_corpus");
+    }
+    for shard in 0..SHARDS {
+        let mut code = String::new();
+        let mut table = String::new();
+        for (i, stem) in stems
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| i % SHARDS == shard)
+        {
+            // Paths stay relative: the macro resolves them from CARGO_MANIFEST_DIR.
+            writeln!(
+                code,
+                "ulog_core::typed::ulog_module!(pub mod log{i} = {:?});",
+                format!("{CORPUS_FILES}/{stem}.ulg")
+            )
+            .unwrap();
+            writeln!(
+                table,
+                "        {stem:?} => log{i}::visit_bindings(checker),"
+            )
+            .unwrap();
+        }
+        let shard_stems: Vec<&String> = stems.iter().skip(shard).step_by(SHARDS).collect();
+        writeln!(
+            code,
+            "/// The file stems of the logs of this shard.\n\
+             pub static STEMS: &[&str] = &{shard_stems:?};\n\
+             /// Every log of the corpus when this was built.\n\
+             pub static ALL_STEMS: &[&str] = &{stems:?};\n\
+             /// Visits the bindings generated from log `stem` of this shard.\n\
+             pub fn visit_log(stem: &str, checker: &mut Checker<'_, '_>) {{\n\
+             \x20   match stem {{\n{table}        other => panic!(\"{{other}} is not in this shard\"),\n    }}\n}}"
+        )
+        .unwrap();
+        let file = Path::new(&out).join(format!("typed_corpus_{}.rs", shard + 1));
+        std::fs::write(file, code).expect("write generated bindings");
+    }
+}
