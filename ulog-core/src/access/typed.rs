@@ -140,7 +140,8 @@ impl<'a> ULog<'a> {
 
     /// Walks the data of every topic once with a [`ULogTopics`] enum: the topics it
     /// names come decoded (plans made once per subscription), the others raw. A topic
-    /// whose format does not fit its variant yields one error, then its records raw.
+    /// whose format does not fit its variant yields one error (every difference), then
+    /// all its records raw.
     pub fn walk<E: ULogTopics>(&self, order: Order) -> Walk<'_, 'a, E> {
         let mut dispatcher = TopicDispatcher::new();
         let mut slots = Vec::new();
@@ -219,8 +220,23 @@ impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
 
     fn next(&mut self) -> Option<Self::Item> {
         let Reverse(c) = self.cursors.pop()?;
-        self.push_cursor(c.sub, c.row + 1);
         let topic = self.log.topic_at(c.sub);
+        // A subscription that does not fit its variant is reported once, before its
+        // first record, which then comes raw like the rest: nothing is lost.
+        if let Some(slot) = self.slots[c.sub] {
+            if let Some(Subscription::Mismatched(m)) = self.dispatcher.subscription(slot) {
+                if !self.reported.contains(&c.sub) {
+                    self.reported.push(c.sub);
+                    let e = Error::new(
+                        ErrorKind::Mismatch(Box::new((**m).clone())),
+                        topic.subscription_offset(),
+                    );
+                    self.cursors.push(Reverse(c));
+                    return Some(Err(e));
+                }
+            }
+        }
+        self.push_cursor(c.sub, c.row + 1);
         let payload = topic.payload(c.row).expect("row exists");
         let raw = TopicRecord::Raw {
             name: topic.name(),
@@ -230,22 +246,13 @@ impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
         let Some(slot) = self.slots[c.sub] else {
             return Some(Ok(raw));
         };
-        match self.dispatcher.subscription(slot) {
-            Some(Subscription::Mismatched(m)) if !self.reported.contains(&c.sub) => {
-                self.reported.push(c.sub);
-                Some(Err(Error::new(
-                    ErrorKind::Mismatch(Box::new((**m).clone())),
-                    topic.subscription_offset(),
-                )))
-            }
-            _ => match self.dispatcher.decode(slot, payload) {
-                None => Some(Ok(raw)),
-                Some(Ok(message)) => Some(Ok(TopicRecord::Message {
-                    multi_id: topic.multi_id(),
-                    message,
-                })),
-                Some(Err(e)) => Some(Err(Error::new(ErrorKind::Decode(e), c.offset))),
-            },
+        match self.dispatcher.decode(slot, payload) {
+            None => Some(Ok(raw)),
+            Some(Ok(message)) => Some(Ok(TopicRecord::Message {
+                multi_id: topic.multi_id(),
+                message,
+            })),
+            Some(Err(e)) => Some(Err(Error::new(ErrorKind::Decode(e), c.offset))),
         }
     }
 }
