@@ -128,7 +128,12 @@ fn a_topic_that_does_not_fit_is_reported_once_then_raw() {
                 name: "esc_status", ..
             }) => raw_esc += 1,
             Ok(TopicRecord::Raw { .. }) => {}
-            Ok(TopicRecord::Message { .. }) => panic!("nothing fits"),
+            Ok(TopicRecord::Message {
+                message: WithMismatch::Esc(e),
+                ..
+            }) => {
+                panic!("nothing fits, yet decoded {e:?}")
+            }
         }
     }
     assert_eq!((errors, raw_esc), (1, 20));
