@@ -719,3 +719,83 @@ fn not_ulog_is_described_from_the_first_bytes_only() {
     let chunked = inc.advance().unwrap_err();
     assert_eq!(whole, chunked);
 }
+
+/// Review findings, each held by a test: repeated subscriptions stay one (and cost
+/// constant time), an error is final in the incremental reader, pushing drops the
+/// current message, a cut tail never yields a message made of its own bytes, and a
+/// format defined again with other spacing is the same format.
+#[test]
+fn repeated_subscriptions_of_an_undefined_format_stay_one() {
+    let mut b = LogBuilder::new(1, 0);
+    for _ in 0..50_000 {
+        b.subscribe(0, 0, "nope");
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert_eq!(log.subscriptions().len(), 1);
+    assert_eq!(log.findings().len(), 1);
+    assert_eq!(
+        log.findings()[0].kind,
+        FindingKind::UnknownFormat("nope".into())
+    );
+}
+
+#[test]
+fn a_refusal_is_final_in_the_incremental_reader() {
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [2, 0, 0, 0, 0, 0, 0, 0], [0; 3]);
+    b.format("t:uint64_t timestamp;");
+    let mut inc = Incremental::new();
+    inc.push(b.bytes());
+    inc.finish();
+    let first = inc.advance().unwrap_err();
+    assert_eq!(inc.advance().unwrap_err(), first);
+}
+
+#[test]
+fn pushing_drops_the_current_message() {
+    let mut b = base();
+    b.data(0, &t_payload(1, 1));
+    let bytes = b.into_bytes();
+    let mut inc = Incremental::new();
+    inc.push(&bytes);
+    let mut ready = false;
+    while let Ok(Status::Ready) = inc.advance() {
+        ready = true;
+        inc.push(&[]);
+        assert!(inc.current().is_none());
+    }
+    assert!(ready);
+}
+
+#[test]
+fn a_cut_tail_never_yields_a_message_made_of_its_own_bytes() {
+    // The cut message's last bytes look like a complete unsubscription ending at EOF.
+    let mut b = base();
+    b.data(0, &t_payload(1, 1));
+    let mut bytes = b.into_bytes();
+    bytes.extend_from_slice(&[40, 0, b'D', 0, 0, 1, 2, 3, 2, 0, b'R', 5, 0]);
+    let log = ULog::parse(&bytes).unwrap();
+    let types: Vec<u8> = log
+        .messages()
+        .map(|m| m.unwrap().message.msg_type())
+        .collect();
+    assert!(!types.contains(&b'R'), "{types:?}");
+    assert!(log.is_truncated());
+}
+
+#[test]
+fn formats_compare_by_content_not_by_spacing() {
+    let mut b = LogBuilder::new(1, 0);
+    b.format("t:uint64_t timestamp;uint32_t v;");
+    b.format("t:uint64_t  timestamp;uint32_t v;");
+    b.subscribe(0, 0, "t");
+    b.subscribe(0, 1, "t");
+    b.data(0, &t_payload(1, 1));
+    b.data(1, &t_payload(2, 2));
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert!(log.findings().is_empty(), "{:?}", log.findings());
+    assert_eq!(log.subscriptions().len(), 1);
+    assert_eq!(values(&log, "t", 0, "v"), ["1", "2"]);
+}

@@ -138,6 +138,14 @@ fn definitions_messages_and_data_section_messages_read_back() {
         .unwrap();
     w.format("raw_topic:uint64_t timestamp;uint8_t v;uint8_t[7] _padding0;")
         .unwrap();
+    // The same format again (spacing aside) is fine; other fields are an error.
+    w.format("raw_topic:uint64_t  timestamp;uint8_t v;uint8_t[7] _padding0;")
+        .unwrap();
+    let e = w
+        .format("raw_topic:uint64_t timestamp;uint16_t v;")
+        .err()
+        .unwrap();
+    assert!(matches!(e.kind, ErrorKind::FormatUndefined(_)), "{e}");
     let raw = w.subscribe_raw("raw_topic", 0).unwrap();
     let mut data = w.start_data().unwrap();
     data.write_raw(&raw, &[&5000u64.to_le_bytes()[..], &[9]].concat())
@@ -151,6 +159,8 @@ fn definitions_messages_and_data_section_messages_read_back() {
     data.tagged_log(LogLevel::Info, 3, 6500, "tagged").unwrap();
     data.dropout(25).unwrap();
     data.sync().unwrap();
+    let e = data.param("bad name", 1i32).unwrap_err();
+    assert!(matches!(e.kind, ErrorKind::InvalidName(_)));
     let e = data.subscribe_raw("never_declared", 0).unwrap_err();
     assert!(matches!(e.kind, ErrorKind::FormatUndefined(_)));
     let too_long = "x".repeat(70_000);

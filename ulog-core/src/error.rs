@@ -72,6 +72,9 @@ pub enum ErrorKind {
     FormatUndefined(String),
     /// Writing: a format string that does not parse.
     InvalidFormat(ulog_format::FormatError),
+    /// Writing: an information or parameter name that is empty or holds a character
+    /// outside `a-z A-Z 0-9 _ - /`.
+    InvalidName(String),
     /// Appending: the log has no flag bits message (version 0 logs cannot take
     /// appended data).
     NoFlagBits,
@@ -175,6 +178,10 @@ impl fmt::Display for ErrorKind {
                 write!(f, "format `{name}` was not declared in the definitions section")
             }
             ErrorKind::InvalidFormat(e) => write!(f, "invalid format: {e}"),
+            ErrorKind::InvalidName(n) => write!(
+                f,
+                "invalid name {n:?}: names are non-empty and use a-z A-Z 0-9 _ - /"
+            ),
             ErrorKind::NoFlagBits => write!(
                 f,
                 "the log has no flag bits message, so data cannot be appended to it"

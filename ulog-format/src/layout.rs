@@ -52,6 +52,10 @@ pub struct Limits {
     /// Largest size in bytes of a laid-out format. A data message cannot carry more
     /// than 65,533 bytes, so no loggable format is larger.
     pub max_size: usize,
+    /// Most fields and array elements a layout may expand to, nested ones counted as
+    /// often as they occur (zero-size arrays count too, so that a small size cannot
+    /// hide an exponential tree).
+    pub max_nodes: usize,
 }
 
 impl Default for Limits {
@@ -59,6 +63,7 @@ impl Default for Limits {
         Limits {
             max_depth: 32,
             max_size: 65535,
+            max_nodes: 1 << 18,
         }
     }
 }
@@ -169,15 +174,18 @@ pub struct Layout {
     fields: Vec<LayoutField>,
     size: usize,
     trailing_padding: usize,
+    depth: usize,
+    nodes: usize,
     leaves: OnceLock<Vec<Leaf>>,
 }
 
 impl PartialEq for Layout {
+    /// Two layouts are equal when they are made of the same formats (each compared
+    /// once, so that shared nested formats do not make the comparison exponential).
     fn eq(&self, other: &Layout) -> bool {
-        self.format == other.format
-            && self.fields == other.fields
-            && self.size == other.size
+        self.size == other.size
             && self.trailing_padding == other.trailing_padding
+            && self.formats() == other.formats()
     }
 }
 
@@ -207,6 +215,17 @@ impl Layout {
     /// The top-level fields, placed.
     pub fn fields(&self) -> &[LayoutField] {
         &self.fields
+    }
+
+    /// Nesting depth: 1 for a format of basic fields only.
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    /// Fields and array elements the layout expands to, nested ones counted as often
+    /// as they occur (bounded by [`Limits::max_nodes`]).
+    pub fn nodes(&self) -> usize {
+        self.nodes
     }
 
     /// The full size in bytes, padding included.
@@ -294,19 +313,25 @@ impl Layout {
     /// formats that use them: the `F` messages a writer must emit.
     pub fn formats(&self) -> Vec<&Format> {
         let mut out: Vec<&Format> = Vec::new();
-        self.collect_formats(&mut out);
+        let mut seen = std::collections::HashSet::new();
+        self.collect_formats(&mut out, &mut seen);
         out
     }
 
-    fn collect_formats<'a>(&'a self, out: &mut Vec<&'a Format>) {
+    fn collect_formats<'a>(
+        &'a self,
+        out: &mut Vec<&'a Format>,
+        seen: &mut std::collections::HashSet<&'a str>,
+    ) {
+        if !seen.insert(&self.format.name) {
+            return;
+        }
         for f in &self.fields {
             if let LayoutType::Nested(inner) = &f.ty {
-                inner.collect_formats(out);
+                inner.collect_formats(out, seen);
             }
         }
-        if !out.iter().any(|f| f.name == self.format.name) {
-            out.push(&self.format);
-        }
+        out.push(&self.format);
     }
 }
 
@@ -353,6 +378,14 @@ impl Resolver {
         stack: &mut Vec<String>,
     ) -> Result<Arc<Layout>, LayoutErrorKind> {
         if let Some(done) = self.done.get(name) {
+            // A layout laid out before may sit deeper here than where it was made.
+            if let Ok(l) = done {
+                if stack.len() + l.depth > self.limits.max_depth {
+                    return Err(LayoutErrorKind::TooDeep {
+                        limit: self.limits.max_depth,
+                    });
+                }
+            }
             return done.clone().map_err(|e| e.kind);
         }
         if stack.iter().any(|s| s == name) {
@@ -404,13 +437,32 @@ impl Resolver {
             what: "size",
             limit: self.limits.max_size,
         };
+        let too_many = LayoutErrorKind::TooLarge {
+            what: "fields and elements",
+            limit: self.limits.max_nodes,
+        };
         let mut fields = Vec::with_capacity(format.fields.len());
         let mut offset = 0usize;
+        let mut depth = 1usize;
+        let mut nodes = 0usize;
         for field in &format.fields {
             let ty = match &field.ty {
                 TypeName::Basic(b) => LayoutType::Basic(*b),
                 TypeName::Nested(n) => LayoutType::Nested(self.resolve_inner(n, formats, stack)?),
             };
+            let n = field.array_len.unwrap_or(1);
+            let per_element = match &ty {
+                LayoutType::Basic(_) => 1,
+                LayoutType::Nested(inner) => {
+                    depth = depth.max(inner.depth + 1);
+                    inner.nodes
+                }
+            };
+            nodes = per_element
+                .checked_mul(n)
+                .and_then(|x| x.checked_add(nodes + 1))
+                .filter(|&x| x <= self.limits.max_nodes)
+                .ok_or_else(|| too_many.clone())?;
             let size = ty
                 .size()
                 .checked_mul(field.array_len.unwrap_or(1))
@@ -439,6 +491,8 @@ impl Resolver {
             fields,
             size: offset,
             trailing_padding,
+            depth,
+            nodes,
             leaves: OnceLock::new(),
         }))
     }
@@ -611,6 +665,49 @@ mod tests {
         let err = Layout::resolve("t0", &f).unwrap_err();
         assert_eq!(err.kind, LayoutErrorKind::TooDeep { limit: 32 });
         assert_eq!(Layout::resolve("t20", &f).unwrap().size(), 1);
+    }
+
+    #[test]
+    fn depth_is_bounded_through_the_cache_too() {
+        // Laid out bottom-up, each format is one level over a cached one.
+        let mut texts: Vec<String> = (0..100).map(|i| format!("t{i}:t{} x;", i + 1)).collect();
+        texts.push("t100:uint8_t v;".into());
+        let f: Vec<Format> = texts.iter().map(|t| Format::parse(t).unwrap()).collect();
+        let mut r = Resolver::new(Limits::default());
+        let mut deepest = 0;
+        for i in (0..=100).rev() {
+            if let Ok(l) = r.resolve(&format!("t{i}"), &f) {
+                deepest = deepest.max(l.depth());
+            }
+        }
+        assert_eq!(deepest, 32);
+    }
+
+    #[test]
+    fn zero_size_fields_cannot_hide_an_exponential_tree() {
+        let wide = |name: &str, ty: &str| {
+            let fields: String = (0..7000).map(|i| format!("{ty} a{i};")).collect();
+            format!("{name}:{fields}")
+        };
+        let texts = [
+            "z:uint8_t[0] e;".to_owned(),
+            wide("c", "z"),
+            wide("b", "c"),
+            "y:z[65535] a;".to_owned(),
+            "x:y[65535] b;".to_owned(),
+        ];
+        let f: Vec<Format> = texts.iter().map(|t| Format::parse(t).unwrap()).collect();
+        let mut r = Resolver::new(Limits::default());
+        assert_eq!(r.resolve("c", &f).unwrap().size(), 0);
+        for name in ["b", "x"] {
+            assert!(matches!(
+                r.resolve(name, &f).unwrap_err().kind,
+                LayoutErrorKind::TooLarge {
+                    what: "fields and elements",
+                    ..
+                }
+            ));
+        }
     }
 
     #[test]

@@ -50,8 +50,9 @@ impl fmt::Display for TypeName {
     }
 }
 
-/// One field of a format: `type name` or `type[len] name`.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+/// One field of a format: `type name` or `type[len] name`. Fields compare (and hash)
+/// by type, array length and name; where they stood in their text does not count.
+#[derive(Debug, Clone)]
 pub struct Field {
     /// The field's type.
     pub ty: TypeName,
@@ -61,6 +62,22 @@ pub struct Field {
     pub name: String,
     /// Where the field stands in the text it was parsed from.
     pub span: Span,
+}
+
+impl PartialEq for Field {
+    fn eq(&self, other: &Field) -> bool {
+        self.ty == other.ty && self.array_len == other.array_len && self.name == other.name
+    }
+}
+
+impl Eq for Field {}
+
+impl std::hash::Hash for Field {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.ty.hash(state);
+        self.array_len.hash(state);
+        self.name.hash(state);
+    }
 }
 
 impl Field {
@@ -348,6 +365,14 @@ mod tests {
     fn display_gives_back_the_canonical_text() {
         let text = "a/b-c:uint64_t timestamp;char[10] name;x[2] xs;";
         assert_eq!(Format::parse(text).unwrap().to_string(), text);
+    }
+
+    #[test]
+    fn equality_ignores_where_fields_stood() {
+        assert_eq!(
+            Format::parse("m:uint8_t a;").unwrap(),
+            Format::parse("m:uint8_t  a;").unwrap()
+        );
     }
 
     #[test]

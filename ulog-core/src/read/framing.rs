@@ -20,6 +20,7 @@ use ulog_format::{Format, Layout, LayoutError, Limits, Resolver};
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::finding::{Corruption, Finding, FindingKind};
+use crate::read::timestamp::TimestampField;
 
 /// The 7 magic bytes that start every ULog file (`ULog` then 0x01 0x12 0x35).
 pub const MAGIC: [u8; 7] = [0x55, 0x4c, 0x6f, 0x67, 0x01, 0x12, 0x35];
@@ -140,6 +141,8 @@ enum Phase {
 }
 
 const NO_SUB: u32 = u32::MAX;
+/// How many bytes of a message the content checks of a resynchronisation look at.
+const STRICT_PREFIX: usize = 128;
 
 /// The framing state machine (see the module docs).
 pub(crate) struct Framer {
@@ -156,6 +159,11 @@ pub(crate) struct Framer {
     by_id: Vec<u32>,
     pub in_definitions: bool,
     max_records_checked_ahead: usize,
+    /// Subscriptions by (name, multi_id), so that a repeated `A` finds its own in
+    /// constant time.
+    sub_by_key: HashMap<(String, u8), Vec<u32>>,
+    /// The error that stopped the read: every later step returns it again.
+    failed: Option<Error>,
 }
 
 fn u16_at(b: &[u8], i: usize) -> u16 {
@@ -248,6 +256,8 @@ impl Framer {
             by_id: vec![NO_SUB; 1 << 16],
             in_definitions: true,
             max_records_checked_ahead: 2,
+            sub_by_key: HashMap::new(),
+            failed: None,
         }
     }
 
@@ -271,6 +281,18 @@ impl Framer {
     /// Frames the next record of `win` (bytes of the file from absolute offset
     /// `base`; `eof` when they reach the end of the file).
     pub fn step(&mut self, win: &[u8], base: u64, eof: bool) -> Result<Step> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        let step = self.step_inner(win, base, eof);
+        if let Err(e) = &step {
+            self.failed = Some(e.clone());
+            self.phase = Phase::End;
+        }
+        step
+    }
+
+    fn step_inner(&mut self, win: &[u8], base: u64, eof: bool) -> Result<Step> {
         loop {
             match self.phase {
                 Phase::End => return Ok(Step::End),
@@ -489,7 +511,7 @@ impl Framer {
                 let header_at = q.checked_sub(3).filter(|&h| h > s.start && h >= base);
                 match header_at {
                     Some(h) if win[(h - base) as usize..rel] == [8, 0, b'S'] => break Some(h),
-                    _ => break Some(q + SYNC_MAGIC.len() as u64),
+                    _ => break Some((q + SYNC_MAGIC.len() as u64).min(limit)),
                 }
             }
             if !eof && win_end - q < SYNC_MAGIC.len() as u64 {
@@ -497,7 +519,7 @@ impl Framer {
                 self.scan = Some(s);
                 return Some(Step::NeedMore);
             }
-            match self.chain_valid(win, base, q, eof, self.max_records_checked_ahead) {
+            match self.chain_valid_scan(win, base, q, eof) {
                 None => {
                     s.next = q;
                     self.scan = Some(s);
@@ -544,22 +566,51 @@ impl Framer {
         }
     }
 
+    /// Whether a place found while scanning starts real messages: a chain of three,
+    /// or of two that end exactly at an appended offset or the end of the file (one
+    /// message that happens to end there could be the tail of the cut message itself).
+    fn chain_valid_scan(&self, win: &[u8], base: u64, q: u64, eof: bool) -> Option<bool> {
+        let depth = self.max_records_checked_ahead;
+        match self.chain_len(win, base, q, eof, depth)? {
+            (n, _) if n > depth => Some(true),
+            (n, true) => Some(n >= 2),
+            _ => Some(false),
+        }
+    }
+
     /// Whether the messages from `q` on frame cleanly for `depth` more messages (or
     /// reach the end of the file or an appended offset). `None`: more bytes needed.
     fn chain_valid(&self, win: &[u8], base: u64, q: u64, eof: bool, depth: usize) -> Option<bool> {
+        match self.chain_len(win, base, q, eof, depth)? {
+            (n, _) if n > depth => Some(true),
+            (_, reached_end) => Some(reached_end),
+        }
+    }
+
+    /// How many plausible messages follow from `q` (up to `depth + 1`), and whether
+    /// they end at the end of the file or an appended offset. `None`: more bytes
+    /// needed.
+    fn chain_len(
+        &self,
+        win: &[u8],
+        base: u64,
+        q: u64,
+        eof: bool,
+        depth: usize,
+    ) -> Option<(usize, bool)> {
         let mut q = q;
         let mut new_ids: Vec<u16> = Vec::new();
         let win_end = base + win.len() as u64;
-        for _ in 0..=depth {
+        for n in 0..=depth {
             if eof && q == win_end {
-                return Some(true);
+                return Some((n, true));
             }
             if self.pending_appended.first() == Some(&q) {
-                return Some(true);
+                return Some((n, true));
             }
             match self.check(win, base, q, eof, true, &new_ids) {
                 Check::NeedMore => return None,
-                Check::Bad(_) => return Some(false),
+                Check::Bad(_) => return Some((n, false)),
                 Check::Ok(size) => {
                     let rel = (q - base) as usize;
                     if win[rel + 2] == b'A' {
@@ -569,7 +620,7 @@ impl Framer {
                 }
             }
         }
-        Some(true)
+        Some((depth + 1, false))
     }
 
     /// Whether one message at `q` is plausible. `strict` adds content checks used when
@@ -648,11 +699,15 @@ impl Framer {
                 }
             }
             b'B' if strict || q != HEADER_LEN as u64 => return Check::Bad(Bad::Implausible),
-            b'A' if strict && !p[3..].iter().all(|&b| is_name_byte(b)) => {
+            // Content checks look at a bounded prefix, so that scanning a corrupt
+            // stretch stays linear with a small constant.
+            b'A' if strict && !p[3..].iter().take(STRICT_PREFIX).all(|&b| is_name_byte(b)) => {
                 return Check::Bad(Bad::Implausible)
             }
             b'L' | b'C' if strict && !valid_level(p[0]) => return Check::Bad(Bad::Implausible),
-            b'F' if strict && !(is_name_byte(p[0]) && p.contains(&b':')) => {
+            b'F' if strict
+                && !(is_name_byte(p[0]) && p[..p.len().min(STRICT_PREFIX)].contains(&b':')) =>
+            {
                 return Check::Bad(Bad::Implausible)
             }
             b'R' | b'O' if strict && size != 2 => return Check::Bad(Bad::Implausible),
@@ -768,6 +823,8 @@ impl Framer {
                     }
                 }
                 self.formats.insert(format.name.clone(), format);
+                // A new format may complete one that could not be laid out before.
+                self.resolver.clear();
             }
             Err(e) => self.finding(FindingKind::InvalidFormat(e), record.offset + 3, 0),
         }
@@ -778,25 +835,32 @@ impl Framer {
         let msg_id = u16_at(p, 1);
         let name = String::from_utf8_lossy(&p[3..]).into_owned();
         let layout = self.resolver.resolve(&name, &self.formats);
-        match &layout {
-            Err(e) if !self.formats.contains_key(&name) => {
-                let _ = e;
-                self.finding(FindingKind::UnknownFormat(name.clone()), record.offset, 0);
-            }
-            Err(e) => self.finding(FindingKind::Layout(e.clone()), record.offset, 0),
-            Ok(_) => {}
-        }
-        let same = |s: &SubDef| {
-            s.name == name
-                && s.multi_id == multi_id
-                && match (&s.layout, &layout) {
-                    (Ok(a), Ok(b)) => a == b,
+        // The same topic subscribed again (under another msg_id, or in appended data)
+        // with the same layout continues the same subscription.
+        let key = (name, multi_id);
+        let existing = self.sub_by_key.get(&key).and_then(|ids| {
+            ids.iter()
+                .copied()
+                .find(|&i| match (&self.subs[i as usize].layout, &layout) {
+                    (Ok(a), Ok(b)) => Arc::ptr_eq(a, b) || a == b,
+                    (Err(a), Err(b)) => a == b,
                     _ => false,
-                }
-        };
-        let index = match self.subs.iter().position(same) {
-            Some(i) => i as u32,
+                })
+        });
+        let index = match existing {
+            Some(i) => i,
             None => {
+                let (name, multi_id) = key.clone();
+                match &layout {
+                    Err(_) if !self.formats.contains_key(&name) => {
+                        self.finding(FindingKind::UnknownFormat(name.clone()), record.offset, 0)
+                    }
+                    Err(e) => self.finding(FindingKind::Layout(e.clone()), record.offset, 0),
+                    Ok(l) if TimestampField::of(l).is_none() => {
+                        self.finding(FindingKind::NoTimestamp(name.clone()), record.offset, 0)
+                    }
+                    Ok(_) => {}
+                }
                 self.subs.push(SubDef {
                     msg_id,
                     multi_id,
@@ -804,7 +868,9 @@ impl Framer {
                     offset: record.offset,
                     layout,
                 });
-                (self.subs.len() - 1) as u32
+                let i = (self.subs.len() - 1) as u32;
+                self.sub_by_key.entry(key).or_default().push(i);
+                i
             }
         };
         self.by_id[msg_id as usize] = index;

@@ -249,13 +249,6 @@ impl<'a> Builder<'a> {
         while self.log.subscriptions.len() < framer.subs.len() {
             let def = &framer.subs[self.log.subscriptions.len()];
             let timestamp = def.layout.as_ref().ok().and_then(|l| TimestampField::of(l));
-            if timestamp.is_none() && def.layout.is_ok() {
-                framer.findings.push(Finding::new(
-                    FindingKind::NoTimestamp(def.name.clone()),
-                    def.offset,
-                    0,
-                ));
-            }
             self.unwrap.push(Unwrapper::new(timestamp));
             self.log.subscriptions.push(Subscription {
                 msg_id: def.msg_id,

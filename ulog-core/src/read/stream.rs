@@ -76,8 +76,10 @@ impl Incremental {
         }
     }
 
-    /// Adds the next bytes of the file.
+    /// Adds the next bytes of the file. (The message of the last
+    /// [`advance`](Incremental::advance) is no longer available after this.)
     pub fn push(&mut self, chunk: &[u8]) {
+        self.current = None;
         self.compact();
         self.buf.extend_from_slice(chunk);
     }

@@ -180,6 +180,13 @@ impl DefaultTypes {
 }
 
 fn key_message(prefix: &[u8], name: &str, value: &(impl InfoValue + ?Sized)) -> Result<Vec<u8>> {
+    let valid = !name.is_empty()
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'/'));
+    if !valid {
+        return Err(Error::new(ErrorKind::InvalidName(name.to_owned()), 0));
+    }
     let key = format!("{} {name}", value.type_name()?);
     let key_len = u8::try_from(key.len()).map_err(|_| {
         Error::new(
@@ -361,17 +368,23 @@ impl<W: Write> LogWriter<W> {
     /// A format given as text (for tools that copy or edit logs).
     pub fn format(&mut self, text: &str) -> Result<&mut Self> {
         let f = Format::parse(text).map_err(|e| Error::new(ErrorKind::InvalidFormat(e), 0))?;
-        let mut pending = Vec::new();
         match self.core.formats.get(&f.name) {
             Some(k) if k.fields == f.fields => {}
-            _ => {
-                pending.push(f.to_string().into_bytes());
+            Some(_) => {
+                return Err(Error::new(
+                    ErrorKind::FormatUndefined(format!(
+                        "{} (defined twice with different fields)",
+                        f.name
+                    )),
+                    0,
+                ))
+            }
+            None => {
+                self.definitions.push((b'F', f.to_string().into_bytes()));
                 self.core.formats.insert(f.name.clone(), f);
                 self.core.resolver.clear();
             }
         }
-        self.definitions
-            .extend(pending.into_iter().map(|p| (b'F', p)));
         Ok(self)
     }
 
