@@ -186,3 +186,28 @@ fn replay_check_refuses_a_log_of_another_firmware() {
     );
     assert!(line(&out, "refused:").contains("battery_status/0"));
 }
+
+/// The writer example logs a flight, reads it back, and `flight_summary` analyses the
+/// log it wrote: the whole loop of the README's first command.
+#[test]
+fn simulated_flight_writes_a_log_that_reads_back_and_analyses() {
+    let dir = std::env::temp_dir().join(format!("ulog-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("flight.ulg");
+    let p = path.to_str().unwrap();
+    let (code, out) = run("simulated_flight", &[p]);
+    assert_eq!(code, 0);
+    assert!(out.contains("0 findings"), "{out}");
+    assert!(
+        out.contains("vehicle_attitude") && out.contains("3001 rows"),
+        "{out}"
+    );
+    assert!(out.contains("peak altitude: 10.0 m"), "{out}");
+    let log_bytes = std::fs::read(&path).unwrap();
+    let log = ulog_core::ULog::parse(&log_bytes).unwrap();
+    assert_eq!(log.param_changes().len(), 1);
+    let (code, out) = run("flight_summary", &[p]);
+    assert_eq!(code, 0);
+    assert_eq!(number(line(&out, "peak altitude:")), 10.0);
+    std::fs::remove_dir_all(&dir).ok();
+}
