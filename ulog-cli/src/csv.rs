@@ -58,7 +58,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let wanted: Vec<&str> = list.split(',').filter(|s| !s.is_empty()).collect();
         for w in &wanted {
             if log.topic_instances(w).is_empty() {
-                return Err(Failure::about(&name, unknown_topic(&log, w)));
+                return Err(Failure::unknown_name(&name, unknown_topic(&log, w)));
             }
         }
         topics.retain(|t| wanted.contains(&t.name()));
@@ -94,7 +94,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             }
         };
         writeln!(out, "Writing {path} ({} data points)", topic.len()).map_err(stdout_err)?;
-        let mut file = File::create(&path).map_err(|e| Failure::about(&path, io_text(&e)))?;
+        let mut file = File::create(&path).map_err(|e| Failure::unreadable(&path, io_text(&e)))?;
         write_topic(
             &mut file,
             &topic,
@@ -104,7 +104,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             &mut buf,
             &mut scratch,
         )
-        .map_err(|e| Failure::about(&path, io_text(&e)))?;
+        .map_err(|e| Failure::unreadable(&path, io_text(&e)))?;
     }
     out.flush().map_err(stdout_err)
 }
@@ -130,7 +130,8 @@ fn output_prefix(name: &str, dir: Option<&Path>) -> Result<String, Failure> {
     if !dir.is_dir() {
         writeln!(io::stdout(), "Creating output directory {}", dir.display())
             .map_err(stdout_err)?;
-        std::fs::create_dir_all(dir).map_err(|e| Failure::about(dir.display(), io_text(&e)))?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::unreadable(dir.display(), io_text(&e)))?;
     }
     let base = Path::new(stem)
         .file_name()

@@ -1,20 +1,79 @@
-//! Why a command stopped: one line for stderr, or a closed output pipe (not an error).
+//! Why a command stopped: one line for stderr with an exit status that says what kind
+//! of failure it was, or a closed output pipe (not an error).
 
 use std::io;
+use std::process::ExitCode;
+
+/// The exit status of `ulog`, one per kind of failure, so scripts can tell them apart.
+///
+/// Usage errors (an unknown option, a missing argument) exit with 2, from `clap`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Status {
+    /// 0: the command did its job (for `check`: every file conforms).
+    Ok = 0,
+    /// 3: a file could not be read or written (missing, a directory, no permission).
+    Io = 3,
+    /// 4: a file is not a ULog log, or the spec says to refuse it.
+    Refused = 4,
+    /// 5: a topic or field name on the command line is not in the log.
+    UnknownName = 5,
+    /// 6: anything else (an option value the log cannot satisfy, an internal limit).
+    Other = 6,
+}
+
+impl Status {
+    /// The process exit code.
+    pub fn code(self) -> ExitCode {
+        ExitCode::from(self as u8)
+    }
+}
+
+/// The `Exit status` section of `ulog --help`.
+pub const EXIT_STATUS_HELP: &str = "\
+Exit status:
+  0  success (for `check`: every file conforms to the spec)
+  1  `check` found damage or departures from the spec
+  2  usage error (unknown option, missing argument)
+  3  a file could not be read or written (missing, a directory, no permission)
+  4  a file is not a ULog log, or one the spec says to refuse
+  5  a topic or field name is not in the log (the closest names are suggested)
+  6  any other failure";
 
 /// What ended a command early.
 #[derive(Debug)]
 pub enum Failure {
     /// Writing to stdout failed because the reader closed the pipe.
     BrokenPipe,
-    /// One line for stderr, after `ulog: ` (`<file>: <error>`).
-    Message(String),
+    /// One line for stderr, after `ulog: ` (`<file>: <error>`), and the exit status.
+    Message(Status, String),
 }
 
 impl Failure {
-    /// A failure about `subject` (a file name, `stdout`, …).
+    /// A failure of kind `status` about `subject` (a file name, `stdout`, …).
+    pub fn new(
+        status: Status,
+        subject: impl core::fmt::Display,
+        what: impl core::fmt::Display,
+    ) -> Failure {
+        Failure::Message(status, format!("{subject}: {what}"))
+    }
+
+    /// A failure about `subject` that fits no more precise status.
     pub fn about(subject: impl core::fmt::Display, what: impl core::fmt::Display) -> Failure {
-        Failure::Message(format!("{subject}: {what}"))
+        Failure::new(Status::Other, subject, what)
+    }
+
+    /// A file that could not be read or written.
+    pub fn unreadable(subject: impl core::fmt::Display, what: impl core::fmt::Display) -> Failure {
+        Failure::new(Status::Io, subject, what)
+    }
+
+    /// A topic or field name that is not in the log.
+    pub fn unknown_name(
+        subject: impl core::fmt::Display,
+        what: impl core::fmt::Display,
+    ) -> Failure {
+        Failure::new(Status::UnknownName, subject, what)
     }
 
     /// An I/O error while writing or reading `subject`; a broken pipe is not reported.
@@ -22,7 +81,7 @@ impl Failure {
         if e.kind() == io::ErrorKind::BrokenPipe {
             Failure::BrokenPipe
         } else {
-            Failure::about(subject, io_text(e))
+            Failure::unreadable(subject, io_text(e))
         }
     }
 }

@@ -5,22 +5,22 @@ use std::path::Path;
 
 use ulog_core::{Error, ErrorKind, MappedFile, ULog};
 
-use crate::failure::{io_text, Failure};
+use crate::failure::{io_text, Failure, Status};
 
 /// Maps the file at `path`; a missing, unreadable or directory path is a failure.
 pub fn open(path: &Path) -> Result<MappedFile, Failure> {
     let shown = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| Failure::about(&shown, io_text(&e)))?;
+    let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
     if meta.is_dir() {
-        return Err(Failure::about(&shown, "is a directory"));
+        return Err(Failure::unreadable(&shown, "is a directory"));
     }
-    MappedFile::open(path).map_err(|e| Failure::about(&shown, error_text(&e)))
+    MappedFile::open(path).map_err(|e| Failure::unreadable(&shown, error_text(&e)))
 }
 
 /// Parses `bytes`; a file that is not a ULog log, or one the spec says to refuse, is a
 /// failure about `name`.
 pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
-    ULog::parse(bytes).map_err(|e| Failure::about(name, error_text(&e)))
+    ULog::parse(bytes).map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
 }
 
 /// A library error as one line: the kind, and the byte offset where one applies.

@@ -14,11 +14,11 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::failure::Failure;
+use crate::failure::{Failure, Status};
 
 /// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export.
 #[derive(Debug, Parser)]
-#[command(name = "ulog", version, about, long_about = None)]
+#[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -41,13 +41,13 @@ fn main() -> ExitCode {
         Command::Csv(a) => csv::run(&a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => Status::Ok.code(),
         // The reader of our output went away (`ulog csv … | head`): not an error of ours.
-        Err(Failure::BrokenPipe) => ExitCode::SUCCESS,
-        Err(Failure::Message(m)) => {
+        Err(Failure::BrokenPipe) => Status::Ok.code(),
+        Err(Failure::Message(status, m)) => {
             use std::io::Write;
             let _ = writeln!(std::io::stderr(), "ulog: {m}");
-            ExitCode::FAILURE
+            status.code()
         }
     }
 }

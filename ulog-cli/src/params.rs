@@ -65,7 +65,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let log = input::parse(&name, file.bytes())?;
     let (out_name, sink): (String, Box<dyn Write>) = match &args.output {
         Some(p) => {
-            let f = File::create(p).map_err(|e| Failure::about(p.display(), io_text(&e)))?;
+            let f = File::create(p).map_err(|e| Failure::unreadable(p.display(), io_text(&e)))?;
             (p.display().to_string(), Box::new(f))
         }
         None => ("stdout".to_owned(), Box::new(io::stdout().lock())),

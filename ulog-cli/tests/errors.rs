@@ -4,9 +4,9 @@ mod common;
 
 use std::path::Path;
 
-fn refused(args: &[&std::ffi::OsStr], expect: &str) {
+fn refused(args: &[&std::ffi::OsStr], expect: &str, status: i32) {
     let out = common::ulog(args);
-    assert!(!out.status.success(), "{args:?} should fail");
+    assert_eq!(out.status.code(), Some(status), "{args:?}: exit status");
     assert!(out.stdout.is_empty());
     let err = String::from_utf8(out.stderr).unwrap();
     assert_eq!(err.lines().count(), 1, "one line expected: {err}");
@@ -14,9 +14,9 @@ fn refused(args: &[&std::ffi::OsStr], expect: &str) {
     assert!(err.contains(expect), "`{expect}` expected in: {err}");
 }
 
-fn every_command(file: &Path, expect: &str) {
+fn every_command(file: &Path, expect: &str, status: i32) {
     for cmd in ["info", "messages", "params", "csv"] {
-        refused(&[cmd.as_ref(), file.as_os_str()], expect);
+        refused(&[cmd.as_ref(), file.as_os_str()], expect, status);
     }
 }
 
@@ -24,21 +24,21 @@ fn every_command(file: &Path, expect: &str) {
 fn missing_file() {
     let dir = common::scratch("missing");
     let file = dir.join("nope.ulg");
-    every_command(&file, "nope.ulg: no such file");
+    every_command(&file, "nope.ulg: no such file", 3);
 }
 
 #[test]
 fn empty_file() {
     let file = common::scratch("empty").join("empty.ulg");
     std::fs::write(&file, b"").unwrap();
-    every_command(&file, "the file is empty");
+    every_command(&file, "the file is empty", 4);
 }
 
 #[test]
 fn not_a_ulog_file() {
     let file = common::scratch("not_ulog").join("x.ulg");
     std::fs::write(&file, b"%PDF-1.4 this is not a flight log at all").unwrap();
-    every_command(&file, "not a ULog file");
+    every_command(&file, "not a ULog file", 4);
 }
 
 #[test]
@@ -48,13 +48,13 @@ fn unknown_incompat_flag_is_refused() {
     b.format("t:uint64_t timestamp;");
     let file = common::scratch("incompat").join("x.ulg");
     std::fs::write(&file, b.bytes()).unwrap();
-    every_command(&file, "unknown incompatible flag bits");
+    every_command(&file, "unknown incompatible flag bits", 4);
 }
 
 #[test]
 fn directory_is_refused() {
     let dir = common::scratch("a_dir");
-    every_command(&dir, "is a directory");
+    every_command(&dir, "is a directory", 3);
 }
 
 #[test]
@@ -72,5 +72,27 @@ fn defaults_of_a_log_without_them() {
             "system".as_ref(),
         ],
         "no default parameters",
+        6,
+    );
+}
+
+#[test]
+fn unknown_topic_is_named_with_the_closest_one() {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [0; 8], [0; 3]);
+    b.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
+    b.subscribe(0, 1, "vehicle_status");
+    b.data(1, &[1, 0, 0, 0, 0, 0, 0, 0, 2]);
+    let file = common::scratch("unknown_topic").join("x.ulg");
+    std::fs::write(&file, b.bytes()).unwrap();
+    refused(
+        &[
+            "csv".as_ref(),
+            file.as_os_str(),
+            "-m".as_ref(),
+            "vehicle_stat".as_ref(),
+        ],
+        "vehicle_status",
+        5,
     );
 }
