@@ -9,6 +9,7 @@ use ulog_core::{FieldShape, Topic, ULog};
 
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
+use crate::progress::Progress;
 use crate::pyfmt::{write_i64, write_numpy_f32, write_numpy_f64, write_u64};
 
 /// Write every topic instance with data to `<file stem>_<topic>_<multi_id>.csv`
@@ -74,7 +75,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         start: args.time_start,
         end: args.time_end,
     };
+    let rows: usize = topics.iter().map(|t| t.len()).sum();
+    let progress = Progress::new(rows as u64, "csv rows");
     for topic in topics {
+        progress.message(topic.name().to_owned());
         let path = format!(
             "{prefix}_{}_{}.csv",
             topic.name().replace('/', "_"),
@@ -105,6 +109,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             &mut scratch,
         )
         .map_err(|e| Failure::unreadable(&path, io_text(&e)))?;
+        progress.inc(topic.len() as u64);
     }
     out.flush().map_err(stdout_err)
 }

@@ -8,6 +8,7 @@ mod info;
 mod input;
 mod messages;
 mod params;
+mod progress;
 mod pyfmt;
 
 use std::process::ExitCode;
@@ -20,6 +21,9 @@ use crate::failure::{Failure, Status};
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
+    /// No progress bars (they are only drawn when stderr is a terminal).
+    #[arg(short, long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -34,6 +38,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    progress::set_quiet(cli.quiet);
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
         Command::Messages(a) => messages::run(&a),
