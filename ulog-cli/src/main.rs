@@ -2,6 +2,7 @@
 //! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
 //! in damaged logs.
 
+mod codegen;
 mod csv;
 mod failure;
 mod info;
@@ -34,6 +35,7 @@ enum Command {
     Messages(messages::Args),
     Params(params::Args),
     Csv(csv::Args),
+    Codegen(codegen::Args),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +46,7 @@ fn main() -> ExitCode {
         Command::Messages(a) => messages::run(&a),
         Command::Params(a) => params::run(&a),
         Command::Csv(a) => csv::run(&a),
+        Command::Codegen(a) => codegen::run(&a),
     };
     match result {
         Ok(()) => Status::Ok.code(),

@@ -5,24 +5,9 @@
 //! runtime as `::ulog_core` unless told otherwise with `#[ulog(crate = "…")]` (or
 //! `crate = path;` in the function-like macros).
 //!
-//! Each macro runs parse → lower → check → expand (`input`/`attr`, `lower`, `check`,
-//! `expand`; `structs` for format strings and logs) and reports every error of its
-//! input at once, with spans.
-
-mod attr;
-mod check;
-mod errors;
-mod expand;
-mod input;
-mod ir;
-mod lower;
-mod module;
-mod names;
-mod structs;
-mod topics;
-
-#[cfg(test)]
-mod snapshots;
+//! This crate is a shell: the pipeline (parse → lower → check → expand, every error of
+//! an input at once, with spans) lives in `ulog-codegen`, which the `ulog codegen`
+//! command shares.
 
 use proc_macro::TokenStream;
 
@@ -35,16 +20,14 @@ use proc_macro::TokenStream;
 /// (for a `[u8; N]` that is a `char[N]`). Fields named `_padding…` are padding.
 #[proc_macro_derive(ULogMessage, attributes(ulog))]
 pub fn derive_ulog_message(input: TokenStream) -> TokenStream {
-    let input = syn::parse_macro_input!(input as syn::DeriveInput);
-    structs::derive_message(&input).into()
+    ulog_codegen::derive_message(input.into()).into()
 }
 
 /// Binds an enum with one tuple variant per binding, for reading several topics in
 /// one walk. See `ulog_core::typed::ULogTopics`.
 #[proc_macro_derive(ULogTopics, attributes(ulog))]
 pub fn derive_ulog_topics(input: TokenStream) -> TokenStream {
-    let input = syn::parse_macro_input!(input as syn::DeriveInput);
-    topics::derive(&input).into()
+    ulog_codegen::derive_topics(input.into()).into()
 }
 
 /// Generates binding structs from ULog format strings:
@@ -53,13 +36,14 @@ pub fn derive_ulog_topics(input: TokenStream) -> TokenStream {
 /// Nested types must be among the formats given.
 #[proc_macro]
 pub fn ulog_structs(input: TokenStream) -> TokenStream {
-    structs::from_format_strings(input.into()).into()
+    ulog_codegen::ulog_structs(input.into()).into()
 }
 
 /// Generates a module of binding structs from every format in a `.ulg` log, read at
 /// compile time: `ulog_module!(pub mod px4 = "logs/reference.ulg");` (path relative to
-/// the crate's `CARGO_MANIFEST_DIR`), optionally preceded by `crate = path;`.
+/// the crate's `CARGO_MANIFEST_DIR`), optionally preceded by `crate = path;`. The
+/// `ulog codegen` command writes the same bindings as a source file.
 #[proc_macro]
 pub fn ulog_module(input: TokenStream) -> TokenStream {
-    module::from_log(input.into()).into()
+    ulog_codegen::ulog_module(input.into()).into()
 }

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use proc_macro2::{Span, TokenStream};
+use proc_macro2::TokenStream;
 use quote::quote;
 use syn::parse::{Parse, ParseStream};
 use syn::{Ident, LitStr, Token, Visibility};
@@ -60,54 +60,27 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
             .to_compile_error()
         }
     };
-    let found = match definitions::formats_in(&bytes) {
-        Ok(f) => f,
+    let bindings = match Bindings::new(&bytes, input.krate) {
+        Ok(b) => b,
         Err(e) => {
             return syn::Error::new(input.path.span(), format!("`{}`: {e}", input.path.value()))
                 .to_compile_error()
         }
     };
-    let mut sources: Vec<Source> = Vec::new();
-    let mut skipped: Vec<String> = Vec::new();
-    for (offset, parsed) in found {
-        match parsed {
-            Ok(format) => {
-                // A later definition of a name replaces the earlier one, as in readers.
-                sources.retain(|s| s.format.name != format.name);
-                let text = format.to_string();
-                sources.push(Source {
-                    format,
-                    lit: None,
-                    text,
-                });
-            }
-            Err(e) => skipped.push(format!("format at offset {offset}: {e}")),
-        }
-    }
-    let paths = Paths::new(input.krate);
-    let mut errors = Errors::default();
-    let mut bound = Vec::new();
-    let structs = emit_structs(&sources, &paths, &mut errors, true, &mut bound);
-    let typed = paths.typed();
-    let visit_body = if bound.is_empty() {
-        quote!(let _ = visitor;)
-    } else {
-        quote!(#(visitor.visit::<#bound>();)*)
-    };
-    let errors = errors.to_compile_errors();
     let vis = &input.vis;
     let ident = &input.ident;
     let file_text = file.display().to_string();
     let doc = format!(
         " Bindings for the {} formats of `{}`, generated at compile time.",
-        sources.len(),
+        bindings.count,
         input.path.value()
     );
-    let skipped_doc = skipped.iter().map(|s| {
+    let skipped_doc = bindings.skipped.iter().map(|s| {
         let line = format!(" - skipped: {s}");
         quote!(#[doc = #line])
     });
-    let _ = Span::call_site();
+    let items = &bindings.items;
+    let errors = bindings.errors.to_compile_errors();
     quote! {
         #[doc = #doc]
         #[doc = ""]
@@ -115,13 +88,70 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
         #vis mod #ident {
             // Rebuild when the log changes.
             const _: &[u8] = ::core::include_bytes!(#file_text);
+            #items
+        }
+        #errors
+    }
+}
+
+/// The bindings of every format of a log: the items of `ulog_module!`'s module.
+pub(crate) struct Bindings {
+    /// Structs, their implementations and `visit_bindings`.
+    pub items: TokenStream,
+    /// Formats the macros cannot bind (two fields with one Rust name); empty when all
+    /// went well.
+    pub errors: Errors,
+    /// Formats bound.
+    pub count: usize,
+    /// Formats left out, with why.
+    pub skipped: Vec<String>,
+}
+
+impl Bindings {
+    /// Reads the formats of the log `bytes` and emits their bindings, naming the
+    /// runtime crate `krate` (default `::ulog_core`).
+    pub fn new(bytes: &[u8], krate: Option<syn::Path>) -> Result<Bindings, String> {
+        let found = definitions::formats_in(bytes).map_err(|e| e.to_string())?;
+        let mut sources: Vec<Source> = Vec::new();
+        let mut skipped: Vec<String> = Vec::new();
+        for (offset, parsed) in found {
+            match parsed {
+                Ok(format) => {
+                    // A later definition of a name replaces the earlier one, as in readers.
+                    sources.retain(|s| s.format.name != format.name);
+                    let text = format.to_string();
+                    sources.push(Source {
+                        format,
+                        lit: None,
+                        text,
+                    });
+                }
+                Err(e) => skipped.push(format!("format at offset {offset}: {e}")),
+            }
+        }
+        let paths = Paths::new(krate);
+        let mut errors = Errors::default();
+        let mut bound = Vec::new();
+        let structs = emit_structs(&sources, &paths, &mut errors, true, &mut bound);
+        let typed = paths.typed();
+        let visit_body = if bound.is_empty() {
+            quote!(let _ = visitor;)
+        } else {
+            quote!(#(visitor.visit::<#bound>();)*)
+        };
+        let items = quote! {
             #structs
 
             /// Calls `visitor` with each binding of the module, in the log's order.
             pub fn visit_bindings<V: #typed::BindingVisitor + ?::core::marker::Sized>(visitor: &mut V) {
                 #visit_body
             }
-        }
-        #errors
+        };
+        Ok(Bindings {
+            items,
+            errors,
+            count: sources.len(),
+            skipped,
+        })
     }
 }

@@ -23,6 +23,11 @@ impl Errors {
         self.list.is_empty()
     }
 
+    /// The messages, in order.
+    pub(crate) fn messages(&self) -> Vec<String> {
+        self.list.iter().map(|e| e.to_string()).collect()
+    }
+
     /// A `compile_error!` per error.
     pub(crate) fn to_compile_errors(&self) -> TokenStream {
         self.list.iter().map(syn::Error::to_compile_error).collect()

@@ -1,0 +1,57 @@
+//! `bindings_for_log` gives exactly the items `ulog_module!` puts in its module.
+
+use quote::quote;
+
+fn items_text(items: Vec<syn::Item>) -> String {
+    prettyplease::unparse(&syn::File {
+        shebang: None,
+        attrs: Vec::new(),
+        items,
+    })
+}
+
+#[test]
+fn codegen_source_equals_the_module_macro_expansion() {
+    let path = std::env::temp_dir().join(format!("ulog-codegen-{}.ulg", std::process::id()));
+    std::fs::write(&path, ulog_core::testing::sample_log()).unwrap();
+    let lit = path.display().to_string();
+    let expanded = ulog_codegen::ulog_module(quote!(pub mod sample = #lit;));
+    let _ = std::fs::remove_file(&path);
+
+    let file: syn::File = syn::parse2(expanded).expect("expansion parses");
+    let module = file
+        .items
+        .into_iter()
+        .find_map(|i| match i {
+            syn::Item::Mod(m) => Some(m),
+            _ => None,
+        })
+        .expect("a module");
+    // Everything but the `include_bytes!` that makes the macro rebuild on change.
+    let from_macro: Vec<syn::Item> = module
+        .content
+        .expect("inline module")
+        .1
+        .into_iter()
+        .filter(|i| !matches!(i, syn::Item::Const(c) if quote!(#c).to_string().contains("include_bytes")))
+        .collect();
+    assert!(from_macro.len() > 4);
+
+    let generated =
+        ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "sample.ulg", None)
+            .unwrap();
+    let parsed: syn::File = syn::parse_str(&generated.source).expect("source parses");
+    assert_eq!(items_text(parsed.items), items_text(from_macro));
+    assert!(generated.skipped.is_empty());
+    assert!(generated.problems.is_empty());
+}
+
+#[test]
+fn a_file_that_is_not_a_log_is_an_error() {
+    let e = ulog_codegen::bindings_for_log(b"hello", "x", None).unwrap_err();
+    assert!(!e.is_empty());
+    let e =
+        ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "x", Some("not a path"))
+            .unwrap_err();
+    assert!(e.contains("not a path"), "{e}");
+}
