@@ -10,7 +10,9 @@ use crate::input;
 /// its `ULogMessage` implementation (nested types, arrays and padding included), and
 /// `visit_bindings`. This is the code `ulog_core::typed::ulog_module!` generates at
 /// compile time, for projects that want it checked in; use it as a module
-/// (`mod bindings;`) of a crate that depends on `ulog-core`.
+/// (`mod bindings;`) of a crate that depends on `ulog-core`. The source is laid out by
+/// prettyplease; put `#[rustfmt::skip]` on the `mod` to keep it identical to what this
+/// command writes (so that a check can regenerate and compare).
 ///
 /// Formats that cannot be bound (they do not parse, or name unknown nested types) are
 /// left out and listed in the file's header comment and on stderr.

@@ -9,7 +9,9 @@ use std::path::{Path, PathBuf};
 use ulog_core::typed::{ulog_module, ULogMessage};
 use ulog_core::{LogWriter, ULog};
 
-/// The checked-in output of `ulog codegen examples/data/reference.ulg`.
+/// The checked-in output of `ulog codegen examples/data/reference.ulg` (not reformatted,
+/// so that it stays byte-identical to fresh output).
+#[rustfmt::skip]
 #[path = "generated/reference.rs"]
 mod generated;
 
