@@ -4,6 +4,8 @@
 
 mod codegen;
 mod csv;
+mod describe;
+mod dump;
 mod failure;
 mod info;
 mod input;
@@ -36,6 +38,7 @@ enum Command {
     Params(params::Args),
     Csv(csv::Args),
     Codegen(codegen::Args),
+    Dump(dump::Args),
 }
 
 fn main() -> ExitCode {
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
         Command::Params(a) => params::run(&a),
         Command::Csv(a) => csv::run(&a),
         Command::Codegen(a) => codegen::run(&a),
+        Command::Dump(a) => dump::run(&a),
     };
     match result {
         Ok(()) => Status::Ok.code(),

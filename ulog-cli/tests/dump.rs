@@ -1,0 +1,169 @@
+//! `ulog dump`: every message in file order, with the reader's findings where they
+//! start; JSON lines agree with pyulog's summaries of the corpus.
+
+mod common;
+
+use std::collections::HashMap;
+
+use serde_json::Value as Json;
+use ulog_core::ULog;
+
+fn json_lines(text: &str) -> Vec<Json> {
+    text.lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect()
+}
+
+#[test]
+fn every_message_of_every_corpus_log() {
+    let Some(dir) = common::corpus("every_message_of_every_corpus_log") else {
+        return;
+    };
+    for (stem, path) in common::corpus_logs(&dir) {
+        let bytes = std::fs::read(&path).unwrap();
+        let log = ULog::parse(&bytes).unwrap();
+        let lines = json_lines(&common::ulog_ok([
+            "dump".as_ref(),
+            "--json".as_ref(),
+            path.as_os_str(),
+        ]));
+        let (findings, messages): (Vec<&Json>, Vec<&Json>) =
+            lines.iter().partition(|j| j.get("finding").is_some());
+        assert_eq!(
+            messages.len() as u64,
+            log.message_count(),
+            "{stem}: messages"
+        );
+        assert_eq!(findings.len(), log.findings().len(), "{stem}: findings");
+        // File order, each finding where it starts.
+        let offsets: Vec<u64> = lines
+            .iter()
+            .map(|j| j["offset"].as_u64().unwrap())
+            .collect();
+        assert!(
+            offsets.windows(2).all(|w| w[0] <= w[1]),
+            "{stem}: not in file order"
+        );
+        for f in log.findings() {
+            assert!(
+                findings
+                    .iter()
+                    .any(|j| j["offset"] == f.offset && j["len"] == f.len),
+                "{stem}: finding {f} missing"
+            );
+        }
+
+        // Data rows per topic instance, their columns and first timestamp, as pyulog.
+        let mut rows: HashMap<(String, u64), Vec<&Json>> = HashMap::new();
+        for m in messages.iter().filter(|m| m["type"] == "D") {
+            if let (Some(t), Some(i)) = (m["topic"].as_str(), m["multi_id"].as_u64()) {
+                rows.entry((t.to_owned(), i)).or_default().push(m);
+            }
+        }
+        let summary = common::summary(&dir, &stem);
+        for t in summary["topics"].as_array().unwrap() {
+            let key = (
+                t["name"].as_str().unwrap().to_owned(),
+                t["multi_id"].as_u64().unwrap(),
+            );
+            let expected = t["rows"].as_u64().unwrap() as usize;
+            let got = rows.get(&key).map_or(&[][..], |v| v.as_slice());
+            if common::RECOVERS_ROWS.contains(&stem.as_str()) {
+                assert!(got.len() >= expected, "{stem} {key:?}: {} rows", got.len());
+            } else {
+                assert_eq!(got.len(), expected, "{stem} {key:?}: rows");
+            }
+            let Some(first) = got.first() else { continue };
+            let fields = first["fields"].as_object().expect("decoded fields");
+            let names: Vec<&str> = fields.keys().map(String::as_str).collect();
+            // pyulog splits `char[N]` into N columns; the reader keeps one string.
+            let mut columns: Vec<&str> = t["columns"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_str().unwrap())
+                .map(|c| match c.rsplit_once('[') {
+                    Some((base, _)) if fields.get(base).is_some_and(Json::is_string) => base,
+                    _ => c,
+                })
+                .collect();
+            columns.dedup();
+            assert_eq!(names, columns, "{stem} {key:?}: columns");
+            if let Some(ts) = fields.get("timestamp") {
+                if !common::RECOVERS_ROWS.contains(&stem.as_str()) {
+                    assert_eq!(ts, &t["first_timestamp"], "{stem} {key:?}: first timestamp");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn text_has_one_line_per_message_and_finding() {
+    let Some(dir) = common::corpus("text_has_one_line_per_message_and_finding") else {
+        return;
+    };
+    let path = dir.join("files/corrupt_unregistered_msg_id.ulg");
+    let text = common::ulog_ok(["dump".as_ref(), path.as_os_str()]);
+    let json = common::ulog_ok(["dump".as_ref(), "--json".as_ref(), path.as_os_str()]);
+    assert_eq!(text.lines().count(), json.lines().count());
+    for (t, j) in text.lines().zip(json_lines(&json)) {
+        let mut parts = t.split_whitespace();
+        let offset: u64 = parts.next().unwrap().parse().unwrap();
+        assert_eq!(offset, j["offset"].as_u64().unwrap(), "{t}");
+        let letter = parts.next().unwrap();
+        match j.get("type") {
+            Some(ty) => assert_eq!(letter, ty.as_str().unwrap(), "{t}"),
+            None => assert_eq!(letter, "!", "{t}"),
+        }
+    }
+    let damage = text.lines().filter(|l| l.contains("  !  ")).count();
+    assert!(damage >= 3, "the corruptions of this log are shown");
+}
+
+#[test]
+fn topic_filter_and_unknown_topic() {
+    let file = common::sample_file("dump_filter");
+    let bytes = std::fs::read(&file).unwrap();
+    let log = ULog::parse(&bytes).unwrap();
+    let topic = log.topics().next().unwrap();
+    let name = topic.name().to_owned();
+    let lines = json_lines(&common::ulog_ok([
+        "dump".as_ref(),
+        "--json".as_ref(),
+        file.as_os_str(),
+        "-m".as_ref(),
+        name.as_ref(),
+    ]));
+    let data: Vec<&Json> = lines.iter().filter(|j| j["type"] == "D").collect();
+    assert_eq!(
+        data.len(),
+        log.topic_instances(&name)
+            .iter()
+            .map(|t| t.len())
+            .sum::<usize>()
+    );
+    assert!(data.iter().all(|j| j["topic"] == name.as_str()));
+    assert!(
+        lines.iter().any(|j| j["type"] == "F"),
+        "definitions still shown"
+    );
+
+    let none = json_lines(&common::ulog_ok([
+        "dump".as_ref(),
+        "--json".as_ref(),
+        "--no-data".as_ref(),
+        file.as_os_str(),
+    ]));
+    assert!(none.iter().all(|j| j["type"] != "D"));
+
+    let out = common::ulog([
+        "dump".as_ref(),
+        file.as_os_str(),
+        "-m".as_ref(),
+        name[..name.len() - 1].as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(5));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains(&name), "suggests {name}: {err}");
+}
