@@ -11,6 +11,8 @@ use std::process::ExitCode;
 pub enum Status {
     /// 0: the command did its job (for `check`: every file conforms).
     Ok = 0,
+    /// 1: `check` found damage or departures from the spec in a file it could read.
+    Findings = 1,
     /// 3: a file could not be read or written (missing, a directory, no permission).
     Io = 3,
     /// 4: a file is not a ULog log, or the spec says to refuse it.

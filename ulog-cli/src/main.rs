@@ -2,6 +2,7 @@
 //! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
 //! in damaged logs.
 
+mod check;
 mod codegen;
 mod csv;
 mod describe;
@@ -37,6 +38,7 @@ enum Command {
     Messages(messages::Args),
     Params(params::Args),
     Csv(csv::Args),
+    Check(check::Args),
     Codegen(codegen::Args),
     Dump(dump::Args),
 }
@@ -44,16 +46,18 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     progress::set_quiet(cli.quiet);
+    let done = |r: Result<(), Failure>| r.map(|()| Status::Ok);
     let result = match cli.command {
-        Command::Info(a) => info::run(&a),
-        Command::Messages(a) => messages::run(&a),
-        Command::Params(a) => params::run(&a),
-        Command::Csv(a) => csv::run(&a),
-        Command::Codegen(a) => codegen::run(&a),
-        Command::Dump(a) => dump::run(&a),
+        Command::Info(a) => done(info::run(&a)),
+        Command::Messages(a) => done(messages::run(&a)),
+        Command::Params(a) => done(params::run(&a)),
+        Command::Csv(a) => done(csv::run(&a)),
+        Command::Check(a) => check::run(&a),
+        Command::Codegen(a) => done(codegen::run(&a)),
+        Command::Dump(a) => done(dump::run(&a)),
     };
     match result {
-        Ok(()) => Status::Ok.code(),
+        Ok(status) => status.code(),
         // The reader of our output went away (`ulog csv … | head`): not an error of ours.
         Err(Failure::BrokenPipe) => Status::Ok.code(),
         Err(Failure::Message(status, m)) => {

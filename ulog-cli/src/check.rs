@@ -1,0 +1,476 @@
+//! `ulog check`: spec conformance and damage report for each file, with a summary line
+//! per file and an exit status for scripts.
+
+use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
+
+use serde_json::{json, Value as Json};
+use ulog_core::{FindingKind, ULog, Unwrapper};
+
+use crate::describe::kind_name;
+use crate::failure::{stdout_err, Failure, Status};
+use crate::input;
+use crate::progress::Progress;
+
+const AFTER_HELP: &str = "\
+Severities:
+  error    data was lost or cannot be read as logged: truncation, corrupt byte ranges,
+           data for unknown msg_ids, size mismatches, malformed messages, formats that
+           do not parse or cannot be laid out
+  warning  departures from the spec that lose nothing: unknown message types, no flag
+           bits message in a version 1 log, redefined formats, subscriptions to unknown
+           formats, timestamps that go backwards or jump (per topic instance), invalid
+           log levels, unknown compatible flag bits, bad appended offsets
+  note     facts worth knowing: dropouts, appended data, parameters without a default
+Exit status: 0 when every file is free of errors and warnings, 1 when one has any,
+3 when a file cannot be read, 4 when one is not a ULog log (the highest applies).
+
+JSON (--json): {\"files\": [{file, status (ok, warnings, damaged, refused, unreadable),
+error (refused/unreadable only), messages, topics, duration_s, errors, warnings, notes,
+problems: [{severity, kind, offset, len, topic, multi_id, text}]}], \"exit_status\": N}";
+
+/// Check each log against the ULog spec and report its damage: truncation, corruption
+/// with byte ranges, unknown message types, size mismatches, formats that do not parse,
+/// timestamps that go backwards or jump per topic, parameters without defaults, and
+/// more (see below). Prints a summary line per file, then its problems.
+#[derive(Debug, clap::Args)]
+#[command(after_help = AFTER_HELP)]
+pub struct Args {
+    /// The ULog files.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// Print one JSON document instead (keys below).
+    #[arg(long)]
+    json: bool,
+    /// Only the summary line of each file.
+    #[arg(short, long, conflicts_with = "json")]
+    brief: bool,
+    /// Every problem (text output shows at most 5 of each kind per file).
+    #[arg(long, conflicts_with = "brief")]
+    all: bool,
+}
+
+/// How bad a problem is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Severity {
+    Error,
+    Warning,
+    Note,
+}
+
+impl Severity {
+    fn name(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Note => "note",
+        }
+    }
+}
+
+/// One thing found in a file.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    pub severity: Severity,
+    pub kind: &'static str,
+    pub offset: Option<u64>,
+    pub len: Option<u64>,
+    pub topic: Option<(String, u8)>,
+    pub text: String,
+}
+
+impl Problem {
+    fn new(severity: Severity, kind: &'static str, text: String) -> Problem {
+        Problem {
+            severity,
+            kind,
+            offset: None,
+            len: None,
+            topic: None,
+            text,
+        }
+    }
+
+    fn at(mut self, offset: u64) -> Problem {
+        self.offset = Some(offset);
+        self
+    }
+}
+
+/// A timestamp gap counts as a jump to nonsense when longer than an hour and than
+/// `JUMP_FACTOR` times the topic's median gap (a topic that is quiet for a minute is
+/// normal; one that leaps by hours, or from 0 to a Unix time, is not).
+const JUMP_MIN_US: u64 = 3_600_000_000;
+const JUMP_FACTOR: u64 = 1000;
+
+/// Lines of one kind shown per file in text output, unless `--all`.
+const SHOWN_PER_KIND: usize = 5;
+
+/// Everything `check` reports about a parsed log, most severe first, then by offset.
+pub fn examine(log: &ULog<'_>) -> Vec<Problem> {
+    let mut out = Vec::new();
+    for f in log.findings() {
+        let severity = match &f.kind {
+            _ if f.is_damage() => Severity::Error,
+            FindingKind::InvalidFormat(_) | FindingKind::Layout(_) => Severity::Error,
+            FindingKind::AppendedData | FindingKind::LongFlagBits(_) => Severity::Note,
+            _ => Severity::Warning,
+        };
+        let mut p = Problem::new(severity, kind_name(f), f.to_string()).at(f.offset);
+        p.len = Some(f.len);
+        out.push(p);
+    }
+    if log.version() >= 1 && log.flag_bits().is_none() {
+        out.push(Problem::new(
+            Severity::Warning,
+            "no_flag_bits",
+            "no flag bits message: the spec requires one first in a version 1 log".into(),
+        ));
+    }
+    for m in log.logged_messages() {
+        if m.level().is_none() {
+            out.push(
+                Problem::new(
+                    Severity::Warning,
+                    "invalid_log_level",
+                    format!(
+                        "logged message with level byte {:#04x}, not '0'..'7'",
+                        m.raw_level
+                    ),
+                )
+                .at(m.offset),
+            );
+        }
+    }
+    timestamp_problems(log, &mut out);
+    let drops = log.dropouts();
+    if !drops.is_empty() {
+        let total: u64 = drops.iter().map(|d| u64::from(d.duration_ms)).sum();
+        let max = drops.iter().map(|d| d.duration_ms).max().unwrap_or(0);
+        out.push(
+            Problem::new(
+                Severity::Note,
+                "dropouts",
+                format!(
+                    "{} dropouts, {total} ms of data lost in all (longest {max} ms)",
+                    drops.len()
+                ),
+            )
+            .at(drops[0].offset),
+        );
+    }
+    defaults_problem(log, &mut out);
+    out.sort_by_key(|p| (p.severity, p.offset.unwrap_or(0)));
+    out
+}
+
+fn defaults_problem(log: &ULog<'_>, out: &mut Vec<Problem>) {
+    let params = log.initial_params();
+    if params.is_empty() {
+        return;
+    }
+    let defaults: std::collections::HashSet<String> = log
+        .default_params()
+        .iter()
+        .map(|d| d.kv.name().into_owned())
+        .collect();
+    let flagged = log.flag_bits().is_some_and(|f| f.has_default_parameters());
+    if defaults.is_empty() && !flagged {
+        out.push(Problem::new(
+            Severity::Note,
+            "no_default_parameters",
+            format!(
+                "none of the {} parameters has a default value logged",
+                params.len()
+            ),
+        ));
+        return;
+    }
+    if defaults.is_empty() {
+        out.push(Problem::new(
+            Severity::Warning,
+            "no_default_parameters",
+            "the DEFAULT_PARAMETERS flag is set but no default parameter is logged".into(),
+        ));
+        return;
+    }
+    let missing: Vec<String> = params
+        .iter()
+        .map(|p| p.name().into_owned())
+        .filter(|n| !defaults.contains(n))
+        .collect();
+    if let Some(first) = missing.first() {
+        out.push(Problem::new(
+            Severity::Note,
+            "parameters_without_default",
+            format!(
+                "{} of {} parameters have no default value logged (first: {first})",
+                missing.len(),
+                params.len()
+            ),
+        ));
+    }
+}
+
+/// Per topic instance: timestamps that go backwards, and jumps far beyond the topic's
+/// usual interval.
+fn timestamp_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
+    for topic in log.topics() {
+        let Some(field) = topic.timestamp_field() else {
+            continue;
+        };
+        let mut u = Unwrapper::new(Some(field));
+        let stamps: Vec<(u64, u64)> = topic
+            .payloads()
+            .zip(topic.message_offsets())
+            .filter_map(|(p, &o)| u.push(p).map(|t| (t, o)))
+            .collect();
+        if stamps.len() < 2 {
+            continue;
+        }
+        let mut gaps: Vec<u64> = stamps
+            .windows(2)
+            .filter_map(|w| w[1].0.checked_sub(w[0].0))
+            .collect();
+        let median = if gaps.is_empty() {
+            0
+        } else {
+            let mid = gaps.len() / 2;
+            *gaps.select_nth_unstable(mid).1
+        };
+        let jump_limit = JUMP_MIN_US.max(median.saturating_mul(JUMP_FACTOR));
+        let (mut back, mut first_back) = (0usize, None);
+        let (mut jumps, mut first_jump) = (0usize, None);
+        for w in stamps.windows(2) {
+            let ((t0, _), (t1, o1)) = (w[0], w[1]);
+            if t1 < t0 {
+                back += 1;
+                first_back.get_or_insert((o1, t0, t1));
+            } else if t1 - t0 > jump_limit {
+                jumps += 1;
+                first_jump.get_or_insert((o1, t0, t1));
+            }
+        }
+        let topic_id = (topic.name().to_owned(), topic.multi_id());
+        if let Some((o, t0, t1)) = first_back {
+            let mut p = Problem::new(
+                Severity::Warning,
+                "timestamp_backwards",
+                format!(
+                    "{}({}): timestamps go backwards {back} time(s), first from {t0} to {t1} us",
+                    topic_id.0, topic_id.1
+                ),
+            )
+            .at(o);
+            p.topic = Some(topic_id.clone());
+            out.push(p);
+        }
+        if let Some((o, t0, t1)) = first_jump {
+            let mut p = Problem::new(
+                Severity::Warning,
+                "timestamp_jump",
+                format!(
+                    "{}({}): timestamps jump forward {jumps} time(s), first by {:.1} s (from {t0} to {t1} us; usual interval {median} us)",
+                    topic_id.0,
+                    topic_id.1,
+                    (t1 - t0) as f64 / 1e6
+                ),
+            )
+            .at(o);
+            p.topic = Some(topic_id);
+            out.push(p);
+        }
+    }
+}
+
+/// The outcome for one file.
+struct Report {
+    file: String,
+    status: Status,
+    error: Option<String>,
+    summary: Option<(u64, usize, f64)>,
+    problems: Vec<Problem>,
+}
+
+impl Report {
+    fn count(&self, s: Severity) -> usize {
+        self.problems.iter().filter(|p| p.severity == s).count()
+    }
+
+    fn status_name(&self) -> &'static str {
+        match self.status {
+            Status::Io => "unreadable",
+            Status::Refused => "refused",
+            _ if self.count(Severity::Error) > 0 => "damaged",
+            _ if self.count(Severity::Warning) > 0 => "warnings",
+            _ => "ok",
+        }
+    }
+}
+
+fn check_file(path: &PathBuf) -> Report {
+    let file = path.display().to_string();
+    let failed = |f: Failure| {
+        let (status, error) = match f {
+            Failure::Message(s, m) => {
+                let prefix = format!("{file}: ");
+                (s, m.strip_prefix(&prefix).map_or(m.clone(), str::to_owned))
+            }
+            Failure::BrokenPipe => (Status::Other, "broken pipe".to_owned()),
+        };
+        Report {
+            file: file.clone(),
+            status,
+            error: Some(error),
+            summary: None,
+            problems: Vec::new(),
+        }
+    };
+    let mapped = match input::open(path) {
+        Ok(m) => m,
+        Err(f) => return failed(f),
+    };
+    let log = match input::parse(&file, mapped.bytes()) {
+        Ok(l) => l,
+        Err(f) => return failed(f),
+    };
+    let problems = examine(&log);
+    let status = if problems.iter().any(|p| p.severity != Severity::Note) {
+        Status::Findings
+    } else {
+        Status::Ok
+    };
+    let duration = log.last_timestamp().saturating_sub(log.start_timestamp()) as f64 / 1e6;
+    Report {
+        file,
+        status,
+        error: None,
+        summary: Some((log.message_count(), log.topics().count(), duration)),
+        problems,
+    }
+}
+
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
+fn write_text(out: &mut impl Write, r: &Report, brief: bool, all: bool) -> io::Result<()> {
+    if let Some(e) = &r.error {
+        return writeln!(out, "{}: {} ({e})", r.file, r.status_name());
+    }
+    let (messages, topics, duration) = r.summary.unwrap_or_default();
+    let counts = [
+        (r.count(Severity::Error), "error"),
+        (r.count(Severity::Warning), "warning"),
+        (r.count(Severity::Note), "note"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, w)| plural(*n, w))
+    .collect::<Vec<_>>();
+    let counts = if counts.is_empty() {
+        String::new()
+    } else {
+        format!(", {}", counts.join(", "))
+    };
+    writeln!(
+        out,
+        "{}: {} ({messages} messages, {topics} topics, {duration:.1} s{counts})",
+        r.file,
+        r.status_name()
+    )?;
+    if brief {
+        return Ok(());
+    }
+    let mut shown: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for p in &r.problems {
+        let n = shown.entry(p.kind).or_default();
+        *n += 1;
+        if !all && *n > SHOWN_PER_KIND {
+            continue;
+        }
+        match p.offset {
+            Some(o) => {
+                // Findings name their offset last; it is shown first here.
+                let suffix = format!(" at byte {o}");
+                let text = p.text.strip_suffix(&suffix).unwrap_or(&p.text);
+                writeln!(out, "  {:<7} at byte {o}: {text}", p.severity.name())?;
+            }
+            None => writeln!(out, "  {:<7} {}", p.severity.name(), p.text)?,
+        }
+    }
+    let mut hidden: Vec<(&str, usize)> = shown
+        .into_iter()
+        .filter(|&(_, n)| n > SHOWN_PER_KIND && !all)
+        .map(|(k, n)| (k, n - SHOWN_PER_KIND))
+        .collect();
+    hidden.sort_unstable();
+    for (kind, n) in hidden {
+        writeln!(out, "  ... and {n} more {kind} (--all shows them)")?;
+    }
+    Ok(())
+}
+
+fn report_json(r: &Report) -> Json {
+    let problems: Vec<Json> = r
+        .problems
+        .iter()
+        .map(|p| {
+            json!({
+                "severity": p.severity.name(), "kind": p.kind, "offset": p.offset, "len": p.len,
+                "topic": p.topic.as_ref().map(|t| t.0.clone()),
+                "multi_id": p.topic.as_ref().map(|t| t.1),
+                "text": p.text,
+            })
+        })
+        .collect();
+    let (messages, topics, duration) = r.summary.unwrap_or_default();
+    let mut j = json!({
+        "file": r.file,
+        "status": r.status_name(),
+        "messages": messages,
+        "topics": topics,
+        "duration_s": duration,
+        "errors": r.count(Severity::Error),
+        "warnings": r.count(Severity::Warning),
+        "notes": r.count(Severity::Note),
+        "problems": problems,
+    });
+    if let Some(e) = &r.error {
+        j["error"] = Json::String(e.clone());
+    }
+    j
+}
+
+/// Runs the check; the exit status is the worst of all files (see `--help`).
+pub fn run(args: &Args) -> Result<Status, Failure> {
+    let progress = Progress::new(args.files.len() as u64, "check files");
+    let mut out = BufWriter::new(io::stdout().lock());
+    let mut worst = Status::Ok;
+    let mut all = Vec::new();
+    for path in &args.files {
+        progress.message(path.display().to_string());
+        let r = check_file(path);
+        worst = worst.max(r.status);
+        if args.json {
+            all.push(report_json(&r));
+        } else {
+            write_text(&mut out, &r, args.brief, args.all).map_err(stdout_err)?;
+        }
+        progress.inc(1);
+    }
+    if args.json {
+        let doc = json!({"files": all, "exit_status": worst as u8});
+        serde_json::to_writer_pretty(&mut out, &doc)
+            .map_err(|e| Failure::io("stdout", &e.into()))?;
+        writeln!(out).map_err(stdout_err)?;
+    } else if args.files.len() > 1 {
+        writeln!(out, "{} files checked", args.files.len()).map_err(stdout_err)?;
+    }
+    out.flush().map_err(stdout_err)?;
+    Ok(worst)
+}
