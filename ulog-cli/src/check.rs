@@ -2,7 +2,7 @@
 //! per file and an exit status for scripts.
 
 use std::io::{self, BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value as Json};
 use ulog_core::{FindingKind, ULog, Unwrapper};
@@ -308,7 +308,7 @@ impl Report {
     }
 }
 
-fn check_file(path: &PathBuf) -> Report {
+fn check_file(path: &Path) -> Report {
     let file = path.display().to_string();
     let failed = |f: Failure| {
         let (status, error) = match f {
