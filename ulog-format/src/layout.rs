@@ -337,7 +337,7 @@ impl Layout {
 
 /// Resolves formats into layouts, sharing the layouts of nested formats between the
 /// formats that use them. One resolver serves one set of formats (one log).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct Resolver {
     limits: Limits,
     done: HashMap<String, Result<Arc<Layout>, LayoutError>>,

@@ -141,10 +141,19 @@ enum Phase {
 }
 
 const NO_SUB: u32 = u32::MAX;
+/// Zero bytes that must follow a data message of the wrong size for it to be taken as
+/// a whole message followed by zero fill (rather than a corrupt size field): zero
+/// fill comes in sectors, while payloads hold shorter zero runs.
+const ZEROS_AFTER_MISMATCH: usize = 512;
 /// How many bytes of a message the content checks of a resynchronisation look at.
 const STRICT_PREFIX: usize = 128;
 
 /// The framing state machine (see the module docs).
+///
+/// Cloning is cheap: what changes only with definitions and subscriptions is shared
+/// until one of the copies changes it, so a copy can be taken at every message (to
+/// see what a reader would make of the file cut there).
+#[derive(Clone)]
 pub(crate) struct Framer {
     phase: Phase,
     pos: u64,
@@ -153,15 +162,15 @@ pub(crate) struct Framer {
     pub flag_bits: Option<FlagBits>,
     pending_appended: Vec<u64>,
     pub findings: Vec<Finding>,
-    pub formats: HashMap<String, Format>,
-    resolver: Resolver,
-    pub subs: Vec<SubDef>,
-    by_id: Vec<u32>,
+    pub formats: Arc<HashMap<String, Format>>,
+    resolver: Arc<Resolver>,
+    pub subs: Arc<Vec<SubDef>>,
+    by_id: Arc<Vec<u32>>,
     pub in_definitions: bool,
     max_records_checked_ahead: usize,
     /// Subscriptions by (name, multi_id), so that a repeated `A` finds its own in
     /// constant time.
-    sub_by_key: HashMap<(String, u8), Vec<u32>>,
+    sub_by_key: Arc<HashMap<(String, u8), Vec<u32>>>,
     /// The error that stopped the read: every later step returns it again.
     failed: Option<Error>,
 }
@@ -193,6 +202,18 @@ fn min_size(t: u8) -> usize {
 
 fn valid_level(l: u8) -> bool {
     l <= 7 || (b'0'..=b'7').contains(&l)
+}
+
+/// Whether the text of a logged string (`L`/`C`) looks like text: no control bytes
+/// but tab, line breaks and escape (terminal colours) in its first bytes, so that a
+/// stretch of binary data does not pass for a long logged string.
+fn plausible_text(p: &[u8], t: u8) -> bool {
+    let start = if t == b'C' { 11 } else { 9 };
+    p.get(start..)
+        .unwrap_or(&[])
+        .iter()
+        .take(STRICT_PREFIX)
+        .all(|&b| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b))
 }
 
 fn is_name_byte(b: u8) -> bool {
@@ -250,13 +271,13 @@ impl Framer {
             flag_bits: None,
             pending_appended: Vec::new(),
             findings: Vec::new(),
-            formats: HashMap::new(),
-            resolver: Resolver::new(Limits::default()),
-            subs: Vec::new(),
-            by_id: vec![NO_SUB; 1 << 16],
+            formats: Arc::default(),
+            resolver: Arc::new(Resolver::new(Limits::default())),
+            subs: Arc::default(),
+            by_id: Arc::new(vec![NO_SUB; 1 << 16]),
             in_definitions: true,
             max_records_checked_ahead: 2,
-            sub_by_key: HashMap::new(),
+            sub_by_key: Arc::default(),
             failed: None,
         }
     }
@@ -453,15 +474,22 @@ impl Framer {
                     // A data message of a known subscription, framed by its own size and
                     // followed by zero bytes (a zero-filled stretch or tail): the message
                     // is reported for what it is, the zeros as their own stretch. The
-                    // decision needs only the next 3 bytes, so the incremental reader
-                    // takes it too without buffering the zeros.
+                    // decision needs only the next `ZEROS_AFTER_MISMATCH` bytes (or the
+                    // end of the file), so the incremental reader takes it too without
+                    // buffering the zeros. Fewer zeros prove nothing: a size field hit
+                    // by corruption can land on a few zero bytes inside a payload.
                     let after = (end - base) as usize;
-                    if matches!(bad, Bad::SizeMismatch(..))
-                        && win.get(after..after + 3) == Some(&[0, 0, 0])
-                    {
-                        self.finding(self.bad_kind(bad, msg_type), p, 3 + size as u64);
-                        self.pos = end;
-                        return None;
+                    if matches!(bad, Bad::SizeMismatch(..)) {
+                        let tail = win.get(after..).unwrap_or(&[]);
+                        let seen = &tail[..tail.len().min(ZEROS_AFTER_MISMATCH)];
+                        if seen.len() >= 3 && seen.iter().all(|&b| b == 0) {
+                            if seen.len() < ZEROS_AFTER_MISMATCH && !eof {
+                                return Some(Step::NeedMore);
+                            }
+                            self.finding(self.bad_kind(bad, msg_type), p, 3 + size as u64);
+                            self.pos = end;
+                            return None;
+                        }
                     }
                 }
             }
@@ -624,7 +652,10 @@ impl Framer {
     }
 
     /// Whether one message at `q` is plausible. `strict` adds content checks used when
-    /// looking for a place to resynchronise.
+    /// looking for a place to resynchronise. In the data section the content checks of
+    /// messages other than flag bits always apply: there, a stretch of garbage whose
+    /// first bytes happen to form a header of a known type must not swallow the real
+    /// messages after it (ULog has no checksums; content is all there is to judge by).
     fn check(
         &self,
         win: &[u8],
@@ -666,6 +697,8 @@ impl Framer {
         }
         let p = &win[rel + 3..rel + 3 + size as usize];
         let bad = |what| Check::Bad(Bad::Malformed(t, what));
+        let strict_b = strict;
+        let strict = strict || !self.in_definitions;
         match t {
             b'D' => {
                 let id = u16_at(p, 0);
@@ -698,13 +731,15 @@ impl Framer {
                     return Check::Bad(Bad::Implausible);
                 }
             }
-            b'B' if strict || q != HEADER_LEN as u64 => return Check::Bad(Bad::Implausible),
+            b'B' if strict_b || q != HEADER_LEN as u64 => return Check::Bad(Bad::Implausible),
             // Content checks look at a bounded prefix, so that scanning a corrupt
             // stretch stays linear with a small constant.
             b'A' if strict && !p[3..].iter().take(STRICT_PREFIX).all(|&b| is_name_byte(b)) => {
                 return Check::Bad(Bad::Implausible)
             }
-            b'L' | b'C' if strict && !valid_level(p[0]) => return Check::Bad(Bad::Implausible),
+            b'L' | b'C' if strict && !(valid_level(p[0]) && plausible_text(p, t)) => {
+                return Check::Bad(Bad::Implausible)
+            }
             b'F' if strict
                 && !(is_name_byte(p[0]) && p[..p.len().min(STRICT_PREFIX)].contains(&b':')) =>
             {
@@ -732,7 +767,9 @@ impl Framer {
             b'L' | b'C' => self.in_definitions = false,
             b'R' => {
                 let id = u16_at(payload, 0);
-                self.by_id[id as usize] = NO_SUB;
+                if self.by_id[id as usize] != NO_SUB {
+                    Arc::make_mut(&mut self.by_id)[id as usize] = NO_SUB;
+                }
             }
             b'D' => record.sub = self.sub_index(u16_at(payload, 0)),
             _ => {}
@@ -817,14 +854,14 @@ impl Framer {
                             record.offset,
                             0,
                         );
-                        self.resolver.clear();
+                        Arc::make_mut(&mut self.resolver).clear();
                     } else {
                         return;
                     }
                 }
-                self.formats.insert(format.name.clone(), format);
+                Arc::make_mut(&mut self.formats).insert(format.name.clone(), format);
                 // A new format may complete one that could not be laid out before.
-                self.resolver.clear();
+                Arc::make_mut(&mut self.resolver).clear();
             }
             Err(e) => self.finding(FindingKind::InvalidFormat(e), record.offset + 3, 0),
         }
@@ -834,7 +871,7 @@ impl Framer {
         let multi_id = p[0];
         let msg_id = u16_at(p, 1);
         let name = String::from_utf8_lossy(&p[3..]).into_owned();
-        let layout = self.resolver.resolve(&name, &self.formats);
+        let layout = Arc::make_mut(&mut self.resolver).resolve(&name, &*self.formats);
         // The same topic subscribed again (under another msg_id, or in appended data)
         // with the same layout continues the same subscription.
         let key = (name, multi_id);
@@ -861,7 +898,7 @@ impl Framer {
                     }
                     Ok(_) => {}
                 }
-                self.subs.push(SubDef {
+                Arc::make_mut(&mut self.subs).push(SubDef {
                     msg_id,
                     multi_id,
                     name,
@@ -869,10 +906,15 @@ impl Framer {
                     layout,
                 });
                 let i = (self.subs.len() - 1) as u32;
-                self.sub_by_key.entry(key).or_default().push(i);
+                Arc::make_mut(&mut self.sub_by_key)
+                    .entry(key)
+                    .or_default()
+                    .push(i);
                 i
             }
         };
-        self.by_id[msg_id as usize] = index;
+        if self.by_id[msg_id as usize] != index {
+            Arc::make_mut(&mut self.by_id)[msg_id as usize] = index;
+        }
     }
 }

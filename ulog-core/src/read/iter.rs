@@ -23,6 +23,7 @@ pub struct MessageAt<'a> {
 /// assert!(formats > 0);
 /// assert!(it.findings().is_empty());
 /// ```
+#[derive(Clone)]
 pub struct Messages<'a> {
     data: &'a [u8],
     framer: Framer,
@@ -42,6 +43,33 @@ impl<'a> Messages<'a> {
     /// The file header, once the first message has been asked for.
     pub fn header(&self) -> Option<Header> {
         self.framer.header
+    }
+
+    /// The rest of this iteration as if the file ended at byte `len`: what a reader of
+    /// only the first `len` bytes gets from here on (a cut file, a download in
+    /// progress). `None` when the iterator already needs bytes at or past `len`
+    /// (it has framed past it, or is scanning a damaged stretch that reaches it).
+    ///
+    /// ```
+    /// # let bytes = ulog_core::testing::sample_log();
+    /// let mut it = ulog_core::Messages::new(&bytes);
+    /// let first = it.next().unwrap().unwrap();
+    /// // Cut 5 bytes into the second message: nothing more, and the cut is reported.
+    /// let end = first.offset as usize + 3 + u16::from_le_bytes([bytes[16], bytes[17]]) as usize;
+    /// let mut cut = it.cut(end + 5).unwrap();
+    /// assert!(cut.next().is_none());
+    /// assert_eq!(cut.findings()[0].kind, ulog_core::FindingKind::Truncated);
+    /// assert_eq!((cut.findings()[0].offset, cut.findings()[0].len), (end as u64, 5));
+    /// ```
+    pub fn cut(&self, len: usize) -> Option<Messages<'a>> {
+        if len > self.data.len() || (len as u64) < self.framer.keep_from() {
+            return None;
+        }
+        Some(Messages {
+            data: &self.data[..len],
+            framer: self.framer.clone(),
+            done: self.done,
+        })
     }
 
     /// What was found and stepped over so far.

@@ -227,7 +227,8 @@ impl<'a> ULog<'a> {
         }
         let mut log = b.log;
         log.flag_bits = framer.flag_bits;
-        log.formats = std::mem::take(&mut framer.formats);
+        log.formats = Arc::try_unwrap(std::mem::take(&mut framer.formats))
+            .unwrap_or_else(|shared| (*shared).clone());
         log.findings = std::mem::take(&mut framer.findings);
         log.appended = log
             .findings
