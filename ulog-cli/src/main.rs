@@ -1,6 +1,6 @@
 //! `ulog`: the jobs of pyulog's scripts (`ulog_info`, `ulog_messages`, `ulog_params`,
 //! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
-//! in damaged logs.
+//! in damaged logs, and time-series plots of chosen fields.
 
 mod csv;
 mod failure;
@@ -8,6 +8,7 @@ mod info;
 mod input;
 mod messages;
 mod params;
+mod plot;
 mod progress;
 mod pyfmt;
 
@@ -17,7 +18,7 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export.
+/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export, plots.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -34,6 +35,7 @@ enum Command {
     Messages(messages::Args),
     Params(params::Args),
     Csv(csv::Args),
+    Plot(plot::Args),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +46,7 @@ fn main() -> ExitCode {
         Command::Messages(a) => messages::run(&a),
         Command::Params(a) => params::run(&a),
         Command::Csv(a) => csv::run(&a),
+        Command::Plot(a) => plot::run(&a),
     };
     match result {
         Ok(()) => Status::Ok.code(),
