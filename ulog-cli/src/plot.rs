@@ -1,7 +1,9 @@
 //! `ulog plot`: a time-series chart of chosen fields, as SVG or PNG.
 
+mod backend;
 mod decimate;
 mod draw;
+mod font;
 mod markers;
 mod series;
 mod spec;
@@ -14,13 +16,11 @@ use plotters::prelude::*;
 
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
+use backend::WithFont;
+use font::Glyphs;
 use markers::Marker;
 use series::Series;
 use spec::FieldSpec;
-
-/// The text font, built in so that output is the same everywhere and needs no system
-/// fonts (DejaVu Sans, a subset; see `assets/README.md`).
-const FONT_DATA: &[u8] = include_bytes!("../assets/DejaVuSans-subset.ttf");
 
 /// Plot fields over time as SVG or PNG: seconds since log start on the x axis, one line
 /// per field, a legend, units where the field's name tells them; parameter changes and
@@ -174,7 +174,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => default_output(&args.file),
     };
     let shown = out.display().to_string();
-    register_font()?;
     let bytes = match format_of(&out) {
         Some(Format::Png) => png_bytes(&chart, width, height),
         _ => svg_bytes(&chart, width, height),
@@ -232,15 +231,15 @@ fn time_axis(
     Ok((x0, x1))
 }
 
-fn register_font() -> Result<(), Failure> {
-    plotters::style::register_font(draw::FONT, FontStyle::Normal, FONT_DATA)
-        .map_err(|_| Failure::about("ulog", "the built-in font cannot be loaded"))
+fn glyphs() -> Result<&'static Glyphs, String> {
+    Glyphs::get().ok_or_else(|| "the built-in font cannot be loaded".to_owned())
 }
 
 fn svg_bytes(chart: &draw::Chart<'_>, width: u32, height: u32) -> Result<Vec<u8>, String> {
     let mut text = String::new();
     {
-        let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
+        let svg = SVGBackend::with_string(&mut text, (width, height));
+        let root = WithFont::new(svg, glyphs()?, false).into_drawing_area();
         draw::draw(&root, chart).map_err(|e| e.to_string())?;
     }
     Ok(text.into_bytes())
@@ -249,7 +248,8 @@ fn svg_bytes(chart: &draw::Chart<'_>, width: u32, height: u32) -> Result<Vec<u8>
 fn png_bytes(chart: &draw::Chart<'_>, width: u32, height: u32) -> Result<Vec<u8>, String> {
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        let bitmap = BitMapBackend::with_buffer(&mut rgb, (width, height));
+        let root = WithFont::new(bitmap, glyphs()?, true).into_drawing_area();
         draw::draw(&root, chart).map_err(|e| e.to_string())?;
     }
     let mut out = Vec::new();

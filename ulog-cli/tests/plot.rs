@@ -256,6 +256,35 @@ fn png_has_the_asked_size() {
         "a non-trivial picture: {} bytes",
         png.len()
     );
+
+    // Decoded: text is drawn (dark pixels in the caption's band at the top, with no font
+    // installed on the system), and so are coloured lines.
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&png))
+        .read_info()
+        .unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut rgb).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let pixel = |x: usize, y: usize| {
+        let i = (y * 900 + x) * 3;
+        (rgb[i], rgb[i + 1], rgb[i + 2])
+    };
+    let caption_ink = (0..25)
+        .flat_map(|y| (0..900).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let (r, g, b) = pixel(x, y);
+            r < 100 && g < 100 && b < 100
+        })
+        .count();
+    assert!(caption_ink > 30, "caption drawn: {caption_ink} dark pixels");
+    let coloured = (0..500)
+        .flat_map(|y| (0..900).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let (r, g, b) = pixel(x, y);
+            r.max(g).max(b) - r.min(g).min(b) > 80
+        })
+        .count();
+    assert!(coloured > 1000, "lines drawn: {coloured} coloured pixels");
 }
 
 #[test]

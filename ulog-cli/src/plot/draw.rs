@@ -3,12 +3,14 @@
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontTransform;
 
 use super::markers::{Kind, Marker};
 use super::series::Series;
 
-/// The font family every text of the chart uses (registered from the built-in font).
+/// The font family every text of the chart names (an SVG viewer picks its own sans-serif;
+/// bitmaps and all text layout use the built-in font, see `super::font`).
 pub const FONT: &str = "sans-serif";
 
 /// Line colours, in order (the "tab10" palette).
@@ -139,8 +141,38 @@ fn draw_panel<DB: DrawingBackend>(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
     }
 
+    let legend_entries: Vec<String> = chart
+        .markers
+        .iter()
+        .filter(|_| layout.marker_labels)
+        .map(|m| m.kind)
+        .fold(Vec::new(), |mut kinds, k| {
+            if !kinds.contains(&k) {
+                kinds.push(k);
+            }
+            kinds
+        })
+        .into_iter()
+        .map(|k| format!("{k:?} marker (00)"))
+        .chain(series.iter().map(|(_, s)| s.legend()))
+        .collect();
+    let legend_font = TextStyle::from((FONT, 14).into_font());
+    let (mut legend_w, mut line_h) = (0, 16);
+    for e in &legend_entries {
+        let (w, h) = area.estimate_text_size(e, &legend_font)?;
+        legend_w = legend_w.max(w);
+        line_h = line_h.max(h);
+    }
+    let legend_px = (legend_w + 50, line_h * legend_entries.len() as u32 + 20);
+    let corner = legend_corner(
+        ctx.plotting_area().dim_in_pixel(),
+        legend_px,
+        (x0, x1, y0, y1),
+        series.iter().map(|(_, s)| *s),
+        chart.markers.iter().filter(|_| layout.marker_labels),
+    );
     ctx.configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(corner)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK.mix(0.3))
         .label_font((FONT, 14))
@@ -160,10 +192,13 @@ fn draw_panel<DB: DrawingBackend>(
             });
             let label = match m.kind {
                 Kind::Param => {
+                    // Anchored at its bottom: turned a quarter clockwise, the text lies
+                    // right of the line, as the error texts do.
                     let style = TextStyle::from(font)
                         .color(&PARAM_COLOUR)
-                        .transform(FontTransform::Rotate90);
-                    EmptyElement::at((m.x, y1)) + Text::new(text, (-3, 6), style)
+                        .transform(FontTransform::Rotate90)
+                        .pos(Pos::new(HPos::Left, VPos::Bottom));
+                    EmptyElement::at((m.x, y1)) + Text::new(text, (3, 6), style)
                 }
                 Kind::Error => {
                     let style = TextStyle::from(font)
@@ -176,6 +211,56 @@ fn draw_panel<DB: DrawingBackend>(
         }
     }
     Ok(())
+}
+
+/// The corner of the plot where the legend (`legend` pixels) hides the fewest points,
+/// and no marker labels (parameter labels hang from the top, error texts rise from the
+/// bottom); on a tie the upper right, then upper left, lower right, lower left.
+fn legend_corner<'s>(
+    plot: (u32, u32),
+    legend: (u32, u32),
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+    series: impl Iterator<Item = &'s Series>,
+    markers: impl Iterator<Item = &'s Marker>,
+) -> SeriesLabelPosition {
+    let (w, h) = (f64::from(plot.0), f64::from(plot.1));
+    // The box of the legend, with the margin plotters leaves, as fractions of the plot.
+    let bw = ((f64::from(legend.0) + 10.0) / w).min(1.0);
+    let bh = ((f64::from(legend.1) + 10.0) / h).min(1.0);
+    let fx = |x: f64| (x - x0) / (x1 - x0);
+    let fy = |y: f64| (y1 - y) / (y1 - y0);
+    let in_x = |f: f64, right: bool| if right { f >= 1.0 - bw } else { f <= bw };
+    let in_y = |f: f64, lower: bool| if lower { f >= 1.0 - bh } else { f <= bh };
+    // (upper right, upper left, lower right, lower left): (right, lower).
+    let corners = [(true, false), (false, false), (true, true), (false, true)];
+    let mut score = [0usize; 4];
+    for s in series {
+        for &(x, y) in &s.points {
+            let (px, py) = (fx(x), fy(y));
+            for (i, &(right, lower)) in corners.iter().enumerate() {
+                if in_x(px, right) && in_y(py, lower) {
+                    score[i] += 1;
+                }
+            }
+        }
+    }
+    for m in markers {
+        let px = fx(m.x);
+        let lower_label = m.kind == Kind::Error;
+        for (i, &(right, lower)) in corners.iter().enumerate() {
+            if in_x(px, right) && lower == lower_label {
+                // A hidden label weighs as much as a stretch of line.
+                score[i] += 1000;
+            }
+        }
+    }
+    let best = (0..4).min_by_key(|&i| (score[i], i)).unwrap_or(0);
+    match best {
+        0 => SeriesLabelPosition::UpperRight,
+        1 => SeriesLabelPosition::UpperLeft,
+        2 => SeriesLabelPosition::LowerRight,
+        _ => SeriesLabelPosition::LowerLeft,
+    }
 }
 
 /// `label`, cut (ending in `…`) to be at most `room` pixels long by `width`.
@@ -282,6 +367,47 @@ mod tests {
         assert_eq!(fit("abcdef", 42, width), "abcdef");
         assert_eq!(fit("abcdef", 41, width), "abcd…");
         assert_eq!(fit("abcdef", 3, width), "");
+    }
+
+    #[test]
+    fn the_legend_goes_where_it_hides_least() {
+        let ranges = (0.0, 10.0, 0.0, 10.0);
+        let rising = series(
+            None,
+            &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0],
+        );
+        let corner = |s: &[&Series], m: &[Marker]| {
+            legend_corner(
+                (1000, 1000),
+                (300, 100),
+                ranges,
+                s.iter().copied(),
+                m.iter(),
+            )
+        };
+        // A line rising to the upper right leaves the upper left free.
+        assert!(matches!(
+            corner(&[&rising], &[]),
+            SeriesLabelPosition::UpperLeft
+        ));
+        let falling = series(
+            None,
+            &[10.0, 9.0, 8.0, 7.0, 6.0, 5.0, 4.0, 3.0, 2.0, 1.0, 0.0],
+        );
+        assert!(matches!(
+            corner(&[&falling], &[]),
+            SeriesLabelPosition::UpperRight
+        ));
+        // A parameter label at the top right pushes the legend to the free lower left.
+        let param = Marker {
+            x: 9.5,
+            kind: Kind::Param,
+            label: "A=1".into(),
+        };
+        assert!(matches!(
+            corner(&[&falling], &[param]),
+            SeriesLabelPosition::LowerLeft
+        ));
     }
 
     #[test]
