@@ -185,7 +185,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let count = |k| marks.iter().filter(|m| m.kind == k).count();
     writeln!(
         std::io::stdout(),
-        "Wrote {shown}: {} line(s), {points} points, {} parameter change marker(s), {} error message marker(s)",
+        "Wrote {shown}: {} line(s), {points} points drawn, {} parameter change marker(s), {} error message marker(s)",
         all.len(),
         count(markers::Kind::Param),
         count(markers::Kind::Error),
