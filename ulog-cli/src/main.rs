@@ -1,6 +1,6 @@
 //! `ulog`: the jobs of pyulog's scripts (`ulog_info`, `ulog_messages`, `ulog_params`,
 //! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
-//! in damaged logs.
+//! in damaged logs (`check`, `dump`), Rust bindings (`codegen`) and time-series plots.
 
 mod check;
 mod codegen;
@@ -12,6 +12,7 @@ mod info;
 mod input;
 mod messages;
 mod params;
+mod plot;
 mod progress;
 mod pyfmt;
 
@@ -21,7 +22,8 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export.
+/// Read PX4 ULog flight logs: summary, damage check, message dump, logged messages,
+/// parameters, CSV export, Rust bindings, plots.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -41,6 +43,7 @@ enum Command {
     Check(check::Args),
     Codegen(codegen::Args),
     Dump(dump::Args),
+    Plot(plot::Args),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
         Command::Check(a) => check::run(&a),
         Command::Codegen(a) => done(codegen::run(&a)),
         Command::Dump(a) => done(dump::run(&a)),
+        Command::Plot(a) => done(plot::run(&a)),
     };
     match result {
         Ok(status) => status.code(),
