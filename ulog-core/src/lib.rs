@@ -40,6 +40,7 @@ pub mod typed;
 mod value;
 pub mod write;
 
+pub use access::columns::{Column, ColumnData};
 pub use access::topic::{FieldReader, FieldShape, Topic};
 pub use access::typed::{Order, TypedRows, Walk};
 pub use error::{Error, ErrorKind, Result};

@@ -1,3 +1,4 @@
 //! Access to a parsed log: topics, fields by path, typed values, bindings.
+pub mod columns;
 pub mod topic;
 pub mod typed;

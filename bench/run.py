@@ -1,0 +1,540 @@
+#!/usr/bin/env python3
+"""The benchmark harness: builds the programs and the big logs, runs every workload of
+ours and of the peers as a whole process N times, and writes a table (median wall time,
+MB/s, messages/s, peak RSS, ratios, targets met or missed, the machine).
+
+    bench/run                 # full run on the two ~300 MB logs -> BENCHMARKS.md
+    bench/run --smoke         # one run on a small corpus log, table to a temp file
+
+Inputs: the shared corpus is found via $ULOG_CORPUS or ../shared/corpus (relative to
+the repository root); the big logs are built with ../shared/tools/make_big.py
+($ULOG_BENCH_TOOLS overrides the tools directory) into bench/data/ ($ULOG_BENCH_DATA
+overrides) when absent. Peers: yule_log and px4-ulog are built from crates.io by the
+bench crate; pyulog (`pip install pyulog==1.3.0`) runs `ULog(path)` and `ulog2csv`.
+Wall time and peak RSS come from wait4() on each process. No timing is asserted.
+"""
+
+import argparse
+import datetime
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BENCH = os.path.join(ROOT, "bench")
+
+# The two ~300 MB logs of the targets: (base log in the corpus, repeats, cached name).
+BIG = [
+    ("sample_px4_events.ulg", 200, "sample_px4_events_x200.ulg"),
+    ("log_61_2024-2-6-16-27-02.ulg", 90, "log_61_x90.ulg"),
+]
+SMOKE_LOG = "sample_px4_events.ulg"
+WRITE_MESSAGES = 5_000_000
+SMOKE_WRITE_MESSAGES = 100_000
+# A program whose first run takes longer than this runs at most SLOW_RUNS times.
+SLOW_SECONDS = 30.0
+SLOW_RUNS = 3
+# GNU time (`-f %M`), for the peak RSS of each program alone (see run_once).
+GNU_TIME = "/usr/bin/time" if sys.platform.startswith("linux") and os.access("/usr/bin/time", os.X_OK) else None
+
+
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def corpus_dir():
+    env = os.environ.get("ULOG_CORPUS")
+    path = env if env else os.path.join(ROOT, "..", "shared", "corpus")
+    return os.path.normpath(path)
+
+
+def tools_dir():
+    env = os.environ.get("ULOG_BENCH_TOOLS")
+    path = env if env else os.path.join(ROOT, "..", "shared", "tools")
+    return os.path.normpath(path)
+
+
+def data_dir():
+    env = os.environ.get("ULOG_BENCH_DATA")
+    return os.path.abspath(env) if env else os.path.join(BENCH, "data")
+
+
+def target_dir(default):
+    env = os.environ.get("CARGO_TARGET_DIR")
+    return os.path.abspath(env) if env else default
+
+
+def build(peers):
+    """Builds the bench programs and the `ulog` CLI (release); returns their paths."""
+    cmd = ["cargo", "build", "--release", "--manifest-path", os.path.join(BENCH, "Cargo.toml")]
+    if not peers:
+        cmd.append("--no-default-features")
+    log("== " + " ".join(cmd))
+    subprocess.run(cmd, check=True, cwd=ROOT)
+    cmd = ["cargo", "build", "--release", "-p", "ulog-cli"]
+    log("== " + " ".join(cmd))
+    subprocess.run(cmd, check=True, cwd=ROOT)
+    bench_bin = os.path.join(target_dir(os.path.join(BENCH, "target")), "release")
+    cli_bin = os.path.join(target_dir(os.path.join(ROOT, "target")), "release")
+    return {
+        "ours": os.path.join(bench_bin, "ours"),
+        "floor": os.path.join(bench_bin, "floor"),
+        "peers": os.path.join(bench_bin, "peers") if peers else None,
+        "ulog": os.path.join(cli_bin, "ulog"),
+    }
+
+
+def big_inputs():
+    files = os.path.join(corpus_dir(), "files")
+    make_big = os.path.join(tools_dir(), "make_big.py")
+    out_dir = data_dir()
+    os.makedirs(out_dir, exist_ok=True)
+    paths = []
+    for base, repeats, name in BIG:
+        out = os.path.join(out_dir, name)
+        if not os.path.exists(out):
+            src = os.path.join(files, base)
+            for need in (src, make_big):
+                if not os.path.exists(need):
+                    sys.exit(f"run: {need} is missing (set ULOG_CORPUS / ULOG_BENCH_TOOLS)")
+            log(f"== building {name}: {base} x {repeats}")
+            subprocess.run([sys.executable, make_big, src, str(repeats), out + ".tmp"], check=True)
+            os.replace(out + ".tmp", out)
+        paths.append((f"{base} x {repeats}", out))
+    return paths
+
+
+def smoke_inputs():
+    src = os.path.join(corpus_dir(), "files", SMOKE_LOG)
+    if os.path.exists(src):
+        return [(SMOKE_LOG, src)]
+    # Without the corpus: the examples' committed reference log.
+    ref = os.path.join(ROOT, "examples", "data", "reference.ulg")
+    return [("examples/data/reference.ulg", ref)]
+
+
+def have_pyulog():
+    try:
+        import pyulog  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def ulog2csv_cmd():
+    exe = shutil.which("ulog2csv")
+    if exe:
+        return [exe]
+    if have_pyulog():
+        return [sys.executable, "-c", "import sys; from pyulog.ulog2csv import main; sys.exit(main())"]
+    return None
+
+
+def cli_has(ulog, sub):
+    r = subprocess.run([ulog, sub, "--help"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return r.returncode == 0
+
+
+class Program:
+    """One whole-process command of a workload."""
+
+    def __init__(self, workload, impl, argv, out_dir=False, msgs_from_output=False, note=""):
+        self.workload = workload
+        self.impl = impl
+        self.argv = argv  # a list; "{out}" is replaced by a fresh empty directory
+        self.out_dir = out_dir
+        self.msgs_from_output = msgs_from_output
+        self.note = note
+
+
+def run_once(p, scratch):
+    """Runs `p` once: (wall seconds, peak RSS bytes, its key=value output)."""
+    out = None
+    argv = p.argv
+    if p.out_dir:
+        out = tempfile.mkdtemp(dir=scratch)
+        argv = [a.replace("{out}", out) for a in argv]
+    rss_file = None
+    if GNU_TIME:
+        # The peak RSS of a process forked from this Python process would start at
+        # Python's own (Linux keeps the high-water mark across exec): GNU time is a
+        # small parent whose report is the program's own.
+        fd, rss_file = tempfile.mkstemp(dir=scratch)
+        os.close(fd)
+        argv = [GNU_TIME, "-f", "%M", "-o", rss_file] + argv
+    with tempfile.TemporaryFile() as so, tempfile.TemporaryFile() as se:
+        start = time.perf_counter()
+        proc = subprocess.Popen(argv, stdout=so, stderr=se)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - start
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        so.seek(0)
+        se.seek(0)
+        stdout = so.read().decode(errors="replace")
+        stderr = se.read().decode(errors="replace")
+    # ru_maxrss is in KiB on Linux, bytes on macOS.
+    rss = usage.ru_maxrss * (1 if sys.platform == "darwin" else 1024)
+    if rss_file:
+        with open(rss_file) as f:
+            lines = f.read().split()
+        os.remove(rss_file)
+        if lines and lines[-1].isdigit():
+            rss = int(lines[-1]) * 1024
+    if out:
+        shutil.rmtree(out, ignore_errors=True)
+    if proc.returncode != 0:
+        raise RuntimeError(
+            f"{' '.join(argv)} exited with {proc.returncode}:\n{stderr[-2000:]}{stdout[-500:]}"
+        )
+    kv = {}
+    for tok in stdout.split():
+        if "=" in tok:
+            k, v = tok.split("=", 1)
+            kv[k] = v
+    cpu = usage.ru_utime + usage.ru_stime
+    return wall, rss, kv, cpu
+
+
+def measure(p, runs, scratch):
+    walls, rsss, cpus, kv = [], [], [], {}
+    n = runs
+    i = 0
+    while i < n:
+        wall, rss, kv, cpu = run_once(p, scratch)
+        walls.append(wall)
+        cpus.append(cpu)
+        rsss.append(rss)
+        if i == 0 and wall > SLOW_SECONDS and n > SLOW_RUNS:
+            n = SLOW_RUNS
+        i += 1
+    return {
+        "runs": len(walls),
+        "median": statistics.median(walls),
+        "min": min(walls),
+        "cpu": statistics.median(cpus),
+        "rss": max(rsss),
+        "kv": kv,
+    }
+
+
+def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
+    b = bins
+    P = []
+    P.append(Program("framing", "floor (header walk)", [b["floor"], path],
+                     note="mmap, walk the 3-byte headers, count"))
+    P.append(Program("framing", "ours", [b["ours"], "framing", path],
+                     note="ULog::parse on a memory map"))
+    P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
+                     note="StreamReader, 64 KiB chunks"))
+    P.append(Program("generic decode", "ours (mmap)", [b["ours"], "decode-mmap", path],
+                     note="ULog::parse + Topic::columns() readers"))
+    if peers:
+        P.append(Program("generic decode", "px4-ulog 0.6 (stream)", [b["peers"], "px4-stream", path],
+                         note="callback, every flattened field"))
+        P.append(Program("generic decode", "yule_log 0.4 (raw)", [b["peers"], "yule-raw", path],
+                         note="ULogParser, every field"))
+    P.append(Program("typed decode", "ours (derive)", [b["ours"], "typed", path],
+                     msgs_from_output=True, note="sensor_combined + vehicle_attitude"))
+    if peers:
+        P.append(Program("typed decode", "yule_log 0.4 (derive)", [b["peers"], "yule-derive", path],
+                         msgs_from_output=True, note="same two topics, same fields"))
+    P.append(Program("columnar load", "ours (2 threads)", [b["ours"], "columns", path, "2"],
+                     note="parse + load_all_columns(2)"))
+    P.append(Program("columnar load", "ours (1 thread)", [b["ours"], "columns", path, "1"],
+                     note="parse + load_all_columns(1)"))
+    if peers:
+        P.append(Program("columnar load", "px4-ulog 0.6 (full_parser)", [b["peers"], "px4-full", path],
+                         note="full_parser::read_file"))
+    if pyulog_ok:
+        P.append(Program("columnar load", "pyulog 1.3 ULog(path)",
+                         [sys.executable, "-c", "import sys; from pyulog import ULog; ULog(sys.argv[1])", path],
+                         note="Python process, numpy columns"))
+    P.append(Program("CSV export", "ours (ulog csv)", [b["ulog"], "csv", path, "-o", "{out}", "--quiet"],
+                     out_dir=True, note="one CSV per topic"))
+    if taskset:
+        P.append(Program("CSV export", "ours (ulog csv, 1 core)",
+                         [taskset, "-c", "0", b["ulog"], "csv", path, "-o", "{out}", "--quiet"],
+                         out_dir=True, note="taskset -c 0"))
+    if ulog2csv:
+        P.append(Program("CSV export", "pyulog 1.3 ulog2csv", ulog2csv + ["-o", "{out}", path],
+                         out_dir=True, note="Python process"))
+    # --- Parquet export slot -------------------------------------------------------
+    # `ulog parquet` is being added on another branch. When the CLI has the subcommand
+    # this row runs it (assumed interface: `ulog parquet FILE -o DIR`); otherwise the
+    # table says it was skipped.
+    if parquet:
+        P.append(Program("Parquet export", "ours (ulog parquet)",
+                         [b["ulog"], "parquet", path, "-o", "{out}"], out_dir=True))
+        if taskset:
+            P.append(Program("Parquet export", "ours (ulog parquet, 1 core)",
+                             [taskset, "-c", "0", b["ulog"], "parquet", path, "-o", "{out}"],
+                             out_dir=True, note="taskset -c 0"))
+    return P
+
+
+def machine(note):
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    mem = ""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal"):
+                    mem = f"{int(line.split()[1]) / 1024 / 1024:.1f} GiB"
+    except OSError:
+        pass
+    osname = platform.platform()
+    try:
+        with open("/etc/os-release") as f:
+            for line in f:
+                if line.startswith("PRETTY_NAME="):
+                    osname = line.split("=", 1)[1].strip().strip('"') + f" (kernel {platform.release()})"
+    except OSError:
+        pass
+    rustc = subprocess.run(["rustc", "-V"], capture_output=True, text=True).stdout.strip()
+    pyver = platform.python_version()
+    pyulog_ver = "not installed"
+    try:
+        from importlib.metadata import version
+
+        pyulog_ver = version("pyulog")
+    except Exception:
+        pass
+    rows = [
+        ("CPU", cpu),
+        ("Cores (logical)", str(os.cpu_count())),
+        ("RAM", mem),
+        ("OS", osname),
+        ("rustc", rustc),
+        ("Python / pyulog", f"{pyver} / {pyulog_ver}"),
+        ("Date", datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")),
+    ]
+    if note:
+        rows.append(("Note", note))
+    return rows
+
+
+def fmt_s(x):
+    return f"{x:.3f}" if x < 10 else f"{x:.2f}"
+
+
+def table(results, size, msgs):
+    """Markdown rows for one input: time, throughput, RSS, ratio to ours."""
+    lines = [
+        "| workload | implementation | runs | median s | CPU s | MB/s | M msg/s | peak RSS MiB | × ours (time) | how |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
+    ]
+    ours_by_workload = {}
+    for p, r in results:
+        if r and p.impl.startswith("ours") and p.workload not in ours_by_workload:
+            ours_by_workload[p.workload] = r["median"]
+    for p, r in results:
+        if r is None:
+            lines.append(f"| {p.workload} | {p.impl} | – | failed | | | | | | {p.note} |")
+            continue
+        t = r["median"]
+        m = int(r["kv"].get("messages", 0)) if p.msgs_from_output else msgs
+        ref = ours_by_workload.get(p.workload)
+        ratio = f"{t / ref:.2f}" if ref and not p.impl.startswith("ours") else ""
+        if p.workload == "framing" and p.impl.startswith("floor") and "framing" in ours_by_workload:
+            ratio = f"{t / ours_by_workload['framing']:.2f}"
+        lines.append(
+            f"| {p.workload} | {p.impl} | {r['runs']} | {fmt_s(t)} | {fmt_s(r['cpu'])} | {size / t / 1e6:,.0f} | "
+            f"{m / t / 1e6:.1f} | {r['rss'] / 2**20:,.1f} | {ratio} | {p.note} |"
+        )
+    return lines
+
+
+def targets(results, size):
+    """(target, measured, met) for one input."""
+    med = {p.impl: r for p, r in results if r}
+
+    def t(impl):
+        r = med.get(impl)
+        return r["median"] if r else None
+
+    def rss(impl):
+        r = med.get(impl)
+        return r["rss"] if r else None
+
+    out = []
+
+    def ratio(name, a, b, limit, le=True, unit="×"):
+        if a is None or b is None:
+            out.append((name, "not measured", None))
+            return
+        x = a / b
+        ok = x <= limit if le else x >= limit
+        out.append((name, f"{x:.3f}{unit}", ok))
+
+    ratio("framing ≤ 1.5 × the floor", t("ours"), t("floor (header walk)"), 1.5)
+    ratio("generic decode (stream) ≤ 0.5 × px4-ulog stream", t("ours (stream)"), t("px4-ulog 0.6 (stream)"), 0.5)
+    ratio("generic decode (mmap) ≤ 0.5 × px4-ulog stream", t("ours (mmap)"), t("px4-ulog 0.6 (stream)"), 0.5)
+    ratio("typed decode ≤ 0.05 × yule_log derive", t("ours (derive)"), t("yule_log 0.4 (derive)"), 0.05)
+    ratio("typed decode ≤ 2 × our framing", t("ours (derive)"), t("ours"), 2.0)
+    ratio("columnar load ≤ 0.5 × px4-ulog full_parser", t("ours (2 threads)"), t("px4-ulog 0.6 (full_parser)"), 0.5)
+    ratio("columnar load ≤ 0.05 × pyulog ULog(path)", t("ours (2 threads)"), t("pyulog 1.3 ULog(path)"), 0.05)
+    ratio("columnar load peak RSS ≤ 1.2 × file size", rss("ours (2 threads)"), size, 1.2)
+    r = rss("ours (stream)")
+    out.append(("streaming decode peak RSS ≤ 16 MiB",
+                f"{r / 2**20:.1f} MiB" if r else "not measured", (r <= 16 * 2**20) if r else None))
+    ratio("CSV export ≥ 10 × faster than ulog2csv", t("pyulog 1.3 ulog2csv"), t("ours (ulog csv)"), 10, le=False)
+    ratio("columnar load on 2 cores ≥ 1.6 × faster than on 1", t("ours (1 thread)"), t("ours (2 threads)"), 1.6, le=False)
+    ratio("CSV export on 2 cores ≥ 1.6 × faster than on 1", t("ours (ulog csv, 1 core)"), t("ours (ulog csv)"), 1.6, le=False)
+    if "ours (ulog parquet)" in med:
+        ratio("Parquet export on 2 cores ≥ 1.6 × faster than on 1",
+              t("ours (ulog parquet, 1 core)"), t("ours (ulog parquet)"), 1.6, le=False)
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--smoke", action="store_true",
+                    help="one run on a small corpus log; table to a temp file unless --out")
+    ap.add_argument("--runs", type=int, help="runs per program (default 5; 1 with --smoke)")
+    ap.add_argument("--out", help="where to write the table (default BENCHMARKS.md at the root)")
+    ap.add_argument("--no-peers", action="store_true", help="skip yule_log and px4-ulog (pyulog still runs)")
+    ap.add_argument("--no-build", action="store_true", help="use the programs already built")
+    ap.add_argument("--note", default="", help="a note for the machine section (e.g. the machine was shared)")
+    ap.add_argument("inputs", nargs="*", help="logs to run on instead of the two big ones")
+    args = ap.parse_args()
+
+    runs = args.runs or (1 if args.smoke else 5)
+    peers = not args.no_peers
+    if args.no_build:
+        tgt = os.path.join(target_dir(os.path.join(BENCH, "target")), "release")
+        cli = os.path.join(target_dir(os.path.join(ROOT, "target")), "release")
+        bins = {"ours": os.path.join(tgt, "ours"), "floor": os.path.join(tgt, "floor"),
+                "peers": os.path.join(tgt, "peers") if peers else None, "ulog": os.path.join(cli, "ulog")}
+    else:
+        bins = build(peers)
+
+    if args.inputs:
+        inputs = [(os.path.basename(p), os.path.abspath(p)) for p in args.inputs]
+    elif args.smoke:
+        inputs = smoke_inputs()
+    else:
+        inputs = big_inputs()
+
+    if args.out:
+        out_path = os.path.abspath(args.out)
+    elif args.smoke:
+        out_path = os.path.join(tempfile.mkdtemp(prefix="ulog-bench-"), "BENCHMARKS.md")
+    else:
+        out_path = os.path.join(ROOT, "BENCHMARKS.md")
+
+    pyulog_ok = have_pyulog()
+    ulog2csv = ulog2csv_cmd()
+    parquet = cli_has(bins["ulog"], "parquet")
+    taskset = shutil.which("taskset") if (os.cpu_count() or 1) > 1 else None
+    write_n = SMOKE_WRITE_MESSAGES if args.smoke else WRITE_MESSAGES
+    scratch = tempfile.mkdtemp(prefix="ulog-bench-scratch-", dir=data_dir() if os.path.isdir(data_dir()) else None)
+
+    doc = [
+        "# Benchmarks",
+        "",
+        "Written by `bench/run` (see [bench/README.md](bench/README.md)); every row is a whole "
+        "process, run on the same input in the same session. *median s*: median wall time of "
+        f"the runs (default {runs}; a program slower than {SLOW_SECONDS:.0f} s on its first run runs "
+        f"at most {SLOW_RUNS} times); *MB/s*: input bytes (10⁶) per second; *M msg/s*: messages of "
+        "the file per second (for the typed workloads: the messages decoded); *CPU s*: median "
+        "user + system time of the process (less sensitive than wall time to other load on "
+        "the machine); *peak RSS*: "
+        f"`ru_maxrss` of the process ({'reported by GNU time' if GNU_TIME else 'from wait4, which on Linux includes the Python parent at fork: about 30 MiB too high for small programs'}); *× ours*: the row's time over ours for the "
+        "same workload (for the floor: floor / our framing). The file is in the page cache "
+        "(a warm-up read precedes the runs).",
+        "",
+    ]
+    if args.smoke:
+        doc += ["**Smoke run** (one repetition on a small log): the figures mean nothing.", ""]
+    doc += ["## Machine", "", "| | |", "|---|---|"]
+    doc += [f"| {k} | {v} |" for k, v in machine(args.note)]
+    doc.append("")
+
+    all_targets = []
+    failures = 0
+    for label, path in inputs:
+        size = os.path.getsize(path)
+        log(f"== input {label}: {size / 1e6:.1f} MB")
+        # Warm the page cache, and count the messages (our framing).
+        subprocess.run([bins["floor"], path], stdout=subprocess.DEVNULL, check=True)
+        msgs = int(run_once(Program("", "", [bins["ours"], "framing", path]), scratch)[2]["messages"])
+        results = []
+        for p in programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
+            log(f"   {p.workload}: {p.impl}")
+            try:
+                r = measure(p, runs, scratch)
+                log(f"      median {r['median']:.3f} s, peak RSS {r['rss'] / 2**20:.1f} MiB ({r['runs']} runs)")
+            except Exception as e:  # a failing program is a row, and a failed run
+                log(f"      FAILED: {e}")
+                r = None
+                failures += 1
+            results.append((p, r))
+        doc += [f"## {label}", "", f"{size / 1e6:,.1f} MB, {msgs:,} messages.", ""]
+        doc += table(results, size, msgs)
+        if not parquet:
+            doc += ["", "Parquet export: skipped (this build's `ulog` has no `parquet` subcommand)."]
+        if not pyulog_ok:
+            doc += ["", "pyulog: not installed (`pip install pyulog==1.3.0`); its rows are missing."]
+        doc.append("")
+        all_targets.append((label, targets(results, size)))
+
+    # Typed writing: input-independent.
+    out_file = os.path.join(scratch, "written.ulg")
+    wp = Program("typed writing", "ours (LogWriter)", [bins["ours"], "write", out_file, str(write_n)],
+                 msgs_from_output=True, note=f"{write_n:,} sensor_combined rows to a file")
+    log("== typed writing")
+    try:
+        r = measure(wp, runs, scratch)
+        written = int(r["kv"].get("bytes", 0))
+        doc += [
+            "## Typed writing",
+            "",
+            "| workload | implementation | runs | median s | CPU s | MB/s written | M msg/s | peak RSS MiB | how |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---|",
+            f"| typed writing | ours (LogWriter) | {r['runs']} | {fmt_s(r['median'])} | {fmt_s(r['cpu'])} | "
+            f"{written / r['median'] / 1e6:,.0f} | {write_n / r['median'] / 1e6:.1f} | "
+            f"{r['rss'] / 2**20:.1f} | {wp.note} ({written / 1e6:.0f} MB) |",
+            "",
+        ]
+    except Exception as e:
+        log(f"      FAILED: {e}")
+        failures += 1
+        doc += ["## Typed writing", "", "failed", ""]
+    finally:
+        if os.path.exists(out_file):
+            os.remove(out_file)
+
+    doc += ["## Targets", "",
+            "The issue's targets (medians; ratios from this run). *met* / *missed*; "
+            "*–* where a program of the ratio was not run.", ""]
+    for label, ts in all_targets:
+        doc += [f"### {label}", "", "| target | measured | |", "|---|---:|---|"]
+        for name, value, ok in ts:
+            mark = "–" if ok is None else ("met" if ok else "**missed**")
+            doc.append(f"| {name} | {value} | {mark} |")
+        doc.append("")
+
+    shutil.rmtree(scratch, ignore_errors=True)
+    with open(out_path, "w") as f:
+        f.write("\n".join(doc))
+    log(f"== wrote {out_path}")
+    if failures:
+        log(f"run: {failures} program(s) failed")
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

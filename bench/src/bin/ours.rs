@@ -1,0 +1,306 @@
+//! Our workloads, each a whole process, through ulog-core's public API.
+//!
+//! ```text
+//! ours framing FILE               ULog::parse on a memory map (indexes every message)
+//! ours decode-stream FILE         StreamReader over the file in 64 KiB chunks; every
+//!                                 field of every data message read as a typed value
+//! ours decode-mmap FILE           the same over ULog::parse + Topic::columns() readers
+//! ours typed FILE                 sensor_combined and vehicle_attitude through derived
+//!                                 structs (ULog::read::<T>)
+//! ours columns FILE [THREADS]     every topic into typed columns (load_all_columns)
+//! ours write OUT MESSAGES         MESSAGES sensor_combined rows through LogWriter
+//! ```
+//!
+//! Each prints `messages=N` (messages handled) and a `check=` sum of what it read, so
+//! that nothing is optimised away; `write` also prints `bytes=` (bytes written).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use ulog_core::format::{BasicType, Layout, LeafKind};
+use ulog_core::typed::ULogMessage;
+use ulog_core::{LogWriter, MappedFile, Message, Str, StreamReader, Value, WriterOptions};
+
+type Failure = Box<dyn std::error::Error>;
+
+/// Adds a value read as a typed value to the checksum: numbers and booleans as `f64`,
+/// strings by their length.
+#[inline]
+fn add(sum: &mut f64, v: Value<'_>) {
+    match v {
+        Value::Str(s) => *sum += s.as_bytes().len() as f64,
+        v => *sum += v.as_f64().unwrap_or(0.0),
+    }
+}
+
+fn framing(path: &str) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let log = file.parse()?;
+    println!(
+        "messages={} topics={} check={}",
+        log.message_count(),
+        log.subscriptions().len(),
+        log.last_timestamp()
+    );
+    Ok(())
+}
+
+/// A subscription's leaves, resolved once: (offset, type, string length or 0).
+struct Resolved {
+    layout: Arc<Layout>,
+    leaves: Box<[(usize, BasicType, usize)]>,
+}
+
+fn resolve(layout: &Arc<Layout>) -> Resolved {
+    Resolved {
+        layout: layout.clone(),
+        leaves: layout
+            .columns()
+            .map(|l| {
+                let strlen = if l.kind == LeafKind::String {
+                    l.count
+                } else {
+                    0
+                };
+                (l.offset, l.ty, strlen)
+            })
+            .collect(),
+    }
+}
+
+fn decode_stream(path: &str) -> Result<(), Failure> {
+    let file = File::open(path)?;
+    let mut reader = StreamReader::with_chunk_size(file, 64 * 1024);
+    // Indexed by msg_id; filled when a subscription's `A` message passes.
+    let mut by_id: Vec<Option<Resolved>> = Vec::new();
+    let mut sum = 0.0f64;
+    let mut messages = 0u64;
+    let mut data = 0u64;
+    loop {
+        let mut subscribed = None;
+        {
+            let Some(m) = reader.next_message()? else {
+                break;
+            };
+            messages += 1;
+            match m.message {
+                Message::Data { msg_id, payload } => {
+                    if let Some(Some(r)) = by_id.get(msg_id as usize) {
+                        data += 1;
+                        for &(offset, ty, strlen) in r.leaves.iter() {
+                            if strlen > 0 {
+                                if let Some(b) = payload.get(offset..offset + strlen) {
+                                    add(&mut sum, Value::Str(Str(b)));
+                                }
+                            } else if let Some(b) = payload.get(offset..offset + ty.size()) {
+                                add(&mut sum, Value::read_scalar(ty, b));
+                            }
+                        }
+                    }
+                }
+                Message::Subscribe { msg_id, .. } => subscribed = Some(msg_id),
+                Message::Unsubscribe { msg_id } => {
+                    if let Some(slot) = by_id.get_mut(msg_id as usize) {
+                        *slot = None;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if let Some(msg_id) = subscribed {
+            let layout = reader
+                .state()
+                .subscription(msg_id)
+                .and_then(|(_, _, layout)| layout.cloned());
+            let i = msg_id as usize;
+            if by_id.len() <= i {
+                by_id.resize_with(i + 1, || None);
+            }
+            by_id[i] = match layout {
+                // The same layout again (a re-subscription): keep the resolved leaves.
+                Some(l) => match by_id[i].take() {
+                    Some(r) if Arc::ptr_eq(&r.layout, &l) => Some(r),
+                    _ => Some(resolve(&l)),
+                },
+                None => None,
+            };
+        }
+    }
+    println!("messages={messages} data={data} check={sum}");
+    Ok(())
+}
+
+fn decode_mmap(path: &str) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let log = file.parse()?;
+    let mut sum = 0.0f64;
+    let mut data = 0u64;
+    for topic in log.topics() {
+        let Ok(columns) = topic.columns() else {
+            continue;
+        };
+        for payload in topic.payloads() {
+            data += 1;
+            for c in &columns {
+                if let Some(v) = c.read(payload) {
+                    add(&mut sum, v);
+                }
+            }
+        }
+    }
+    println!("messages={} data={data} check={sum}", log.message_count());
+    Ok(())
+}
+
+/// `sensor_combined`: the fields every PX4 version since 2017 logs (the derive maps
+/// by name, so newer formats with more fields read too).
+#[derive(ULogMessage, Clone, Copy)]
+struct SensorCombined {
+    timestamp: u64,
+    gyro_rad: [f32; 3],
+    accelerometer_m_s2: [f32; 3],
+}
+
+/// `vehicle_attitude`: timestamp and quaternion.
+#[derive(ULogMessage, Clone, Copy)]
+struct VehicleAttitude {
+    timestamp: u64,
+    q: [f32; 4],
+}
+
+fn typed(path: &str) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let log = file.parse()?;
+    let mut sum = 0.0f64;
+    let mut rows = 0u64;
+    // A log without one of the topics (a small test log) reads the other.
+    let has = |name: &str| log.topic(name, 0).is_ok();
+    let sensors = if has(SensorCombined::NAME) {
+        Some(log.read::<SensorCombined>(0)?)
+    } else {
+        None
+    };
+    for row in sensors.iter().flat_map(|t| t.iter()) {
+        let r = row?;
+        rows += 1;
+        sum += r.timestamp as f64;
+        for v in r.gyro_rad.iter().chain(&r.accelerometer_m_s2) {
+            sum += f64::from(*v);
+        }
+    }
+    let attitudes = if has(VehicleAttitude::NAME) {
+        Some(log.read::<VehicleAttitude>(0)?)
+    } else {
+        None
+    };
+    for row in attitudes.iter().flat_map(|t| t.iter()) {
+        let r = row?;
+        rows += 1;
+        sum += r.timestamp as f64;
+        for v in &r.q {
+            sum += f64::from(*v);
+        }
+    }
+    println!("messages={rows} check={sum}");
+    Ok(())
+}
+
+fn columns(path: &str, threads: usize) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let log = file.parse()?;
+    let tables = log.load_all_columns(threads);
+    let mut values = 0usize;
+    let mut failed = 0usize;
+    for t in &tables {
+        match t {
+            Ok(columns) => values += columns.iter().map(|c| c.data.len()).sum::<usize>(),
+            Err(_) => failed += 1,
+        }
+    }
+    println!(
+        "messages={} values={values} topics={} failed_topics={failed}",
+        log.message_count(),
+        tables.len()
+    );
+    Ok(())
+}
+
+/// `sensor_combined` as PX4 v1.14 logs it (48 bytes).
+#[derive(ULogMessage, Clone, Copy)]
+struct SensorCombinedFull {
+    timestamp: u64,
+    gyro_rad: [f32; 3],
+    gyro_integral_dt: u32,
+    accelerometer_timestamp_relative: i32,
+    accelerometer_m_s2: [f32; 3],
+    accelerometer_integral_dt: u32,
+    accelerometer_clipping: u8,
+    gyro_clipping: u8,
+    accel_calibration_count: u8,
+    gyro_calibration_count: u8,
+}
+
+fn write(out: &str, messages: u64) -> Result<(), Failure> {
+    let file = BufWriter::with_capacity(1 << 16, File::create(out)?);
+    let mut w = LogWriter::with_options(file, 0, WriterOptions::default())?;
+    let h = w.subscribe::<SensorCombinedFull>(0)?;
+    let mut data = w.start_data()?;
+    for i in 0..messages {
+        let f = i as f32 * 1e-3;
+        data.write(
+            &h,
+            &SensorCombinedFull {
+                timestamp: 1_000 + 1_000 * i,
+                gyro_rad: [f, -f, 0.25],
+                gyro_integral_dt: 5000,
+                accelerometer_timestamp_relative: 0,
+                accelerometer_m_s2: [0.1, -0.2, -9.81 + f],
+                accelerometer_integral_dt: 5000,
+                accelerometer_clipping: 0,
+                gyro_clipping: 0,
+                accel_calibration_count: 1,
+                gyro_calibration_count: 1,
+            },
+        )?;
+    }
+    let mut file = data.finish()?;
+    std::io::Write::flush(&mut file)?;
+    let bytes = file.get_ref().metadata()?.len();
+    println!("messages={messages} bytes={bytes}");
+    Ok(())
+}
+
+const USAGE: &str = "usage: ours (framing|decode-stream|decode-mmap|typed) FILE | ours columns FILE [THREADS] | ours write OUT MESSAGES";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let result = match a.as_slice() {
+        ["framing", f] => framing(f),
+        ["decode-stream", f] => decode_stream(f),
+        ["decode-mmap", f] => decode_mmap(f),
+        ["typed", f] => typed(f),
+        ["columns", f] => columns(f, 1),
+        ["columns", f, n] => match n.parse() {
+            Ok(n) => columns(f, n),
+            Err(e) => Err(format!("THREADS `{n}`: {e}").into()),
+        },
+        ["write", out, n] => match n.parse() {
+            Ok(n) => write(out, n),
+            Err(e) => Err(format!("MESSAGES `{n}`: {e}").into()),
+        },
+        _ => {
+            eprintln!("{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("ours: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,150 @@
+//! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
+//! of every field of every data message, streaming and from the parsed index; and the
+//! columnar load on one and two threads. The whole-process versions of these, beside
+//! the peers, are in `bench/run`.
+//!
+//! ```text
+//! cargo bench -p ulog-benches --bench read                  # the corpus's sample.ulg
+//! ULOG_BENCH_FILE=big.ulg cargo bench -p ulog-benches --bench read
+//! cargo bench -p ulog-benches --bench read -- --test        # each once (CI)
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput};
+use ulog_core::format::LeafKind;
+use ulog_core::{Message, Str, StreamReader, ULog, Value};
+
+fn load() -> (String, Vec<u8>) {
+    if let Some(path) = std::env::var_os("ULOG_BENCH_FILE") {
+        let bytes = std::fs::read(&path)
+            .unwrap_or_else(|e| panic!("ULOG_BENCH_FILE {}: {e}", path.to_string_lossy()));
+        return (path.to_string_lossy().into_owned(), bytes);
+    }
+    let corpus = std::env::var_os("ULOG_CORPUS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| {
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus")
+        });
+    if let Ok(bytes) = std::fs::read(corpus.join("files/sample.ulg")) {
+        return ("corpus sample.ulg".to_owned(), bytes);
+    }
+    (
+        "ulog_core::testing::sample_log()".to_owned(),
+        ulog_core::testing::sample_log(),
+    )
+}
+
+fn add(sum: &mut f64, v: Value<'_>) {
+    match v {
+        Value::Str(s) => *sum += s.as_bytes().len() as f64,
+        v => *sum += v.as_f64().unwrap_or(0.0),
+    }
+}
+
+/// Every field of every data message through the stream reader, leaves resolved once
+/// per subscription.
+fn decode_stream(bytes: &[u8]) -> f64 {
+    let mut reader = StreamReader::new(bytes);
+    let mut by_id: Vec<Option<Vec<(usize, ulog_core::format::BasicType, usize)>>> = Vec::new();
+    let mut sum = 0.0;
+    loop {
+        let mut subscribed = None;
+        {
+            let Some(m) = reader.next_message().expect("reads") else {
+                break;
+            };
+            match m.message {
+                Message::Data { msg_id, payload } => {
+                    if let Some(Some(leaves)) = by_id.get(msg_id as usize) {
+                        for &(offset, ty, strlen) in leaves {
+                            if strlen > 0 {
+                                if let Some(b) = payload.get(offset..offset + strlen) {
+                                    add(&mut sum, Value::Str(Str(b)));
+                                }
+                            } else if let Some(b) = payload.get(offset..offset + ty.size()) {
+                                add(&mut sum, Value::read_scalar(ty, b));
+                            }
+                        }
+                    }
+                }
+                Message::Subscribe { msg_id, .. } => subscribed = Some(msg_id),
+                _ => {}
+            }
+        }
+        if let Some(id) = subscribed {
+            let leaves = reader
+                .state()
+                .subscription(id)
+                .and_then(|(_, _, l)| l.cloned())
+                .map(|l| {
+                    l.columns()
+                        .map(|c| {
+                            let strlen = if c.kind == LeafKind::String {
+                                c.count
+                            } else {
+                                0
+                            };
+                            (c.offset, c.ty, strlen)
+                        })
+                        .collect()
+                });
+            if by_id.len() <= id as usize {
+                by_id.resize(id as usize + 1, None);
+            }
+            by_id[id as usize] = leaves;
+        }
+    }
+    sum
+}
+
+/// Every field of every data message through the parsed index and field readers.
+fn decode_index(log: &ULog<'_>) -> f64 {
+    let mut sum = 0.0;
+    for topic in log.topics() {
+        let Ok(columns) = topic.columns() else {
+            continue;
+        };
+        for payload in topic.payloads() {
+            for c in &columns {
+                if let Some(v) = c.read(payload) {
+                    add(&mut sum, v);
+                }
+            }
+        }
+    }
+    sum
+}
+
+fn main() {
+    let (name, bytes) = load();
+    let log = ULog::parse(&bytes).expect("the input parses");
+    println!(
+        "input: {name} ({} bytes, {} messages)",
+        bytes.len(),
+        log.message_count()
+    );
+    let mut c = Criterion::default().configure_from_args();
+    let mut group = c.benchmark_group("read");
+    group.throughput(Throughput::Bytes(bytes.len() as u64));
+    group.bench_function("framing (ULog::parse)", |b| {
+        b.iter(|| {
+            ULog::parse(black_box(&bytes))
+                .expect("parses")
+                .message_count()
+        })
+    });
+    group.bench_function("generic decode (stream)", |b| {
+        b.iter(|| decode_stream(black_box(&bytes)))
+    });
+    group.bench_function("generic decode (parsed index)", |b| {
+        b.iter(|| decode_index(black_box(&log)))
+    });
+    for threads in [1, 2] {
+        group.bench_function(format!("columnar load ({threads} thread)"), |b| {
+            b.iter(|| black_box(&log).load_all_columns(threads).len())
+        });
+    }
+    group.finish();
+    c.final_summary();
+}

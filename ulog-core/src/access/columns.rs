@@ -1,0 +1,418 @@
+//! Columnar load: every column (leaf field) of a topic copied into a typed vector, one
+//! value per data message, as a table of the topic (what pyulog's `ULog(path)` builds
+//! with numpy arrays). [`ULog::load_all_columns`] loads every topic, spread over
+//! threads.
+
+use crate::access::topic::Topic;
+use crate::error::Result;
+use crate::read::log::ULog;
+use crate::value::{Str, Value};
+use ulog_format::{BasicType, LeafKind};
+
+/// The values of one column, in the column's own type.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColumnData {
+    /// `int8_t`
+    I8(Vec<i8>),
+    /// `uint8_t`
+    U8(Vec<u8>),
+    /// `int16_t`
+    I16(Vec<i16>),
+    /// `uint16_t`
+    U16(Vec<u16>),
+    /// `int32_t`
+    I32(Vec<i32>),
+    /// `uint32_t`
+    U32(Vec<u32>),
+    /// `int64_t`
+    I64(Vec<i64>),
+    /// `uint64_t`
+    U64(Vec<u64>),
+    /// `float`
+    F32(Vec<f32>),
+    /// `double`
+    F64(Vec<f64>),
+    /// `bool`
+    Bool(Vec<bool>),
+    /// A single `char` (an element of a nested array of chars is one).
+    Char(Vec<u8>),
+    /// `char[N]` strings: `width` bytes per row, the rows back to back.
+    Str {
+        /// Bytes per row (`N`).
+        width: usize,
+        /// `width × rows` bytes.
+        bytes: Vec<u8>,
+    },
+}
+
+impl ColumnData {
+    fn with_capacity(ty: BasicType, kind: LeafKind, count: usize, rows: usize) -> ColumnData {
+        if kind == LeafKind::String {
+            return ColumnData::Str {
+                width: count,
+                bytes: Vec::with_capacity(count * rows),
+            };
+        }
+        match ty {
+            BasicType::Int8 => ColumnData::I8(Vec::with_capacity(rows)),
+            BasicType::UInt8 => ColumnData::U8(Vec::with_capacity(rows)),
+            BasicType::Int16 => ColumnData::I16(Vec::with_capacity(rows)),
+            BasicType::UInt16 => ColumnData::U16(Vec::with_capacity(rows)),
+            BasicType::Int32 => ColumnData::I32(Vec::with_capacity(rows)),
+            BasicType::UInt32 => ColumnData::U32(Vec::with_capacity(rows)),
+            BasicType::Int64 => ColumnData::I64(Vec::with_capacity(rows)),
+            BasicType::UInt64 => ColumnData::U64(Vec::with_capacity(rows)),
+            BasicType::Float => ColumnData::F32(Vec::with_capacity(rows)),
+            BasicType::Double => ColumnData::F64(Vec::with_capacity(rows)),
+            BasicType::Bool => ColumnData::Bool(Vec::with_capacity(rows)),
+            BasicType::Char => ColumnData::Char(Vec::with_capacity(rows)),
+        }
+    }
+
+    /// Appends the value at `offset` of `p` (which holds it: checked by the caller).
+    #[inline]
+    fn push_from(&mut self, p: &[u8], offset: usize) {
+        macro_rules! le {
+            ($v:expr, $t:ty) => {{
+                const N: usize = core::mem::size_of::<$t>();
+                let mut a = [0u8; N];
+                a.copy_from_slice(&p[offset..offset + N]);
+                $v.push(<$t>::from_le_bytes(a))
+            }};
+        }
+        match self {
+            ColumnData::I8(v) => v.push(p[offset] as i8),
+            ColumnData::U8(v) | ColumnData::Char(v) => v.push(p[offset]),
+            ColumnData::I16(v) => le!(v, i16),
+            ColumnData::U16(v) => le!(v, u16),
+            ColumnData::I32(v) => le!(v, i32),
+            ColumnData::U32(v) => le!(v, u32),
+            ColumnData::I64(v) => le!(v, i64),
+            ColumnData::U64(v) => le!(v, u64),
+            ColumnData::F32(v) => le!(v, f32),
+            ColumnData::F64(v) => le!(v, f64),
+            ColumnData::Bool(v) => v.push(p[offset] != 0),
+            ColumnData::Str { width, bytes } => {
+                bytes.extend_from_slice(&p[offset..offset + *width]);
+            }
+        }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        match self {
+            ColumnData::I8(v) => v.len(),
+            ColumnData::U8(v) | ColumnData::Char(v) => v.len(),
+            ColumnData::I16(v) => v.len(),
+            ColumnData::U16(v) => v.len(),
+            ColumnData::I32(v) => v.len(),
+            ColumnData::U32(v) => v.len(),
+            ColumnData::I64(v) => v.len(),
+            ColumnData::U64(v) => v.len(),
+            ColumnData::F32(v) => v.len(),
+            ColumnData::F64(v) => v.len(),
+            ColumnData::Bool(v) => v.len(),
+            ColumnData::Str { width, bytes } => bytes.len().checked_div(*width).unwrap_or(0),
+        }
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The value of row `i`, as [`FieldReader::read`](crate::FieldReader::read) gives
+    /// it (`char[N]` as [`Value::Str`]).
+    pub fn get(&self, i: usize) -> Option<Value<'_>> {
+        Some(match self {
+            ColumnData::I8(v) => Value::I8(*v.get(i)?),
+            ColumnData::U8(v) => Value::U8(*v.get(i)?),
+            ColumnData::I16(v) => Value::I16(*v.get(i)?),
+            ColumnData::U16(v) => Value::U16(*v.get(i)?),
+            ColumnData::I32(v) => Value::I32(*v.get(i)?),
+            ColumnData::U32(v) => Value::U32(*v.get(i)?),
+            ColumnData::I64(v) => Value::I64(*v.get(i)?),
+            ColumnData::U64(v) => Value::U64(*v.get(i)?),
+            ColumnData::F32(v) => Value::F32(*v.get(i)?),
+            ColumnData::F64(v) => Value::F64(*v.get(i)?),
+            ColumnData::Bool(v) => Value::Bool(*v.get(i)?),
+            ColumnData::Char(v) => Value::Char(*v.get(i)?),
+            ColumnData::Str { width, bytes } => {
+                let start = i.checked_mul(*width)?;
+                Value::Str(Str(bytes.get(start..start.checked_add(*width)?)?))
+            }
+        })
+    }
+}
+
+/// One column of a topic: its path (as [`Topic::columns`] names it) and its values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// The path, as pyulog names columns: `q[2]`, `esc[1].esc_rpm`.
+    pub path: String,
+    /// The values, one per data message in file order.
+    pub data: ColumnData,
+}
+
+impl Topic<'_, '_> {
+    /// Every column of the topic (leaf fields in pyulog's order, padding left out,
+    /// `char[N]` as one string column) loaded into typed vectors, one value per data
+    /// message. Fails only when the topic's format could not be laid out.
+    ///
+    /// ```
+    /// # let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes)?;
+    /// let topic = log.topic("vehicle_attitude", 0)?;
+    /// let columns = topic.load_columns()?;
+    /// assert_eq!(columns[0].path, "timestamp");
+    /// assert_eq!(columns[0].data.len(), topic.len());
+    /// assert_eq!(columns[1].data.get(0), topic.field("q[0]")?.read(topic.payload(0).unwrap()));
+    /// # Ok::<(), ulog_core::Error>(())
+    /// ```
+    pub fn load_columns(&self) -> Result<Vec<Column>> {
+        let layout = self.layout()?;
+        let rows = self.len();
+        let leaves: Vec<_> = layout.columns().collect();
+        let mut data: Vec<ColumnData> = leaves
+            .iter()
+            .map(|l| ColumnData::with_capacity(l.ty, l.kind, l.count, rows))
+            .collect();
+        let offsets: Vec<usize> = leaves.iter().map(|l| l.offset).collect();
+        // Every column lies within this many bytes; framing accepts only payloads of the
+        // full size or the size without trailing padding, which both hold them. A
+        // shorter payload (never framed, but cheap to survive) reads as zero-filled.
+        let needed = leaves
+            .iter()
+            .map(|l| l.offset + l.count * l.ty.size())
+            .max()
+            .unwrap_or(0);
+        let mut scratch = vec![0u8; needed];
+        for p in self.payloads() {
+            let p = if p.len() >= needed {
+                p
+            } else {
+                scratch.fill(0);
+                scratch[..p.len()].copy_from_slice(p);
+                &scratch[..]
+            };
+            for (column, &offset) in data.iter_mut().zip(&offsets) {
+                column.push_from(p, offset);
+            }
+        }
+        Ok(leaves
+            .iter()
+            .zip(data)
+            .map(|(l, data)| Column {
+                path: l.path.clone(),
+                data,
+            })
+            .collect())
+    }
+}
+
+impl ULog<'_> {
+    /// Every topic's columns ([`Topic::load_columns`]), in subscription order (one
+    /// entry per [`ULog::subscriptions`] entry), loaded on up to `threads` threads
+    /// (`0` or `1`: on this thread). Topics are spread so that each thread gets about
+    /// the same number of payload bytes.
+    ///
+    /// ```
+    /// # let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes)?;
+    /// let one = log.load_all_columns(1);
+    /// let two = log.load_all_columns(2);
+    /// assert_eq!(one.len(), log.subscriptions().len());
+    /// assert_eq!(one, two);
+    /// # Ok::<(), ulog_core::Error>(())
+    /// ```
+    pub fn load_all_columns(&self, threads: usize) -> Vec<Result<Vec<Column>>> {
+        let topics: Vec<Topic<'_, '_>> = self.topics().collect();
+        if threads <= 1 || topics.len() <= 1 {
+            return topics.iter().map(Topic::load_columns).collect();
+        }
+        // Largest first, each to the thread with the least work so far.
+        let weight = |t: &Topic<'_, '_>| {
+            let row = t.layout().map_or(0, |l| l.size());
+            t.len() * (row + 16)
+        };
+        let mut order: Vec<usize> = (0..topics.len()).collect();
+        order.sort_by_key(|&i| core::cmp::Reverse(weight(&topics[i])));
+        let threads = threads.min(topics.len());
+        let mut shares: Vec<(usize, Vec<usize>)> = vec![(0, Vec::new()); threads];
+        for i in order {
+            let least = shares
+                .iter_mut()
+                .min_by_key(|(load, _)| *load)
+                .expect("at least one thread");
+            least.0 += weight(&topics[i]);
+            least.1.push(i);
+        }
+        let mut out: Vec<Option<Result<Vec<Column>>>> = (0..topics.len()).map(|_| None).collect();
+        let topics = &topics;
+        std::thread::scope(|s| {
+            let handles: Vec<_> = shares
+                .into_iter()
+                .map(|(_, share)| {
+                    s.spawn(move || {
+                        share
+                            .into_iter()
+                            .map(|i| (i, topics[i].load_columns()))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            for h in handles {
+                // A panic in a worker is a bug of this function: pass it on.
+                let loaded = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+                for (i, columns) in loaded {
+                    out[i] = Some(columns);
+                }
+            }
+        });
+        out.into_iter()
+            .map(|c| c.expect("every topic was given to a thread"))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{sample_log, LogBuilder};
+
+    #[test]
+    fn columns_match_field_readers_for_every_row() {
+        let bytes = sample_log();
+        let log = ULog::parse(&bytes).unwrap();
+        let mut checked = 0;
+        for topic in log.topics() {
+            let columns = topic.load_columns().unwrap();
+            let readers = topic.columns().unwrap();
+            assert_eq!(columns.len(), readers.len(), "{}", topic.name());
+            for (c, r) in columns.iter().zip(&readers) {
+                assert_eq!(c.path, r.path());
+                assert_eq!(c.data.len(), topic.len());
+                for (i, p) in topic.payloads().enumerate() {
+                    assert_eq!(c.data.get(i), r.read(p), "{} row {i}", c.path);
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 1000, "only {checked} values checked");
+    }
+
+    #[test]
+    fn every_type_and_strings_load_with_their_values() {
+        let mut b = LogBuilder::new(1, 0);
+        b.format(
+            "t:uint64_t timestamp;int8_t a;uint8_t b;int16_t c;uint16_t d;int32_t e;uint32_t f;\
+             int64_t g;float h;double i;bool j;char[3] s;uint8_t[2] _padding0;",
+        );
+        b.subscribe(0, 7, "t");
+        for row in 0..3u8 {
+            let mut p = Vec::new();
+            p.extend_from_slice(&(100 + row as u64).to_le_bytes());
+            p.push((-(row as i8)) as u8);
+            p.push(row);
+            p.extend_from_slice(&(-300i16 - row as i16).to_le_bytes());
+            p.extend_from_slice(&(60_000u16 + row as u16).to_le_bytes());
+            p.extend_from_slice(&(-70_000i32).to_le_bytes());
+            p.extend_from_slice(&4_000_000_000u32.to_le_bytes());
+            p.extend_from_slice(&(-5i64 * 1_000_000_000_000).to_le_bytes());
+            p.extend_from_slice(&(row as f32 + 0.5).to_le_bytes());
+            p.extend_from_slice(&(row as f64 * 1e300).to_le_bytes());
+            p.push(row % 2);
+            p.extend_from_slice(&[b'x', b'0' + row, 0]);
+            if row != 1 {
+                // Rows 0 and 2 with the trailing padding, row 1 without.
+                p.extend_from_slice(&[0, 0]);
+            }
+            b.data(7, &p);
+        }
+        let log = ULog::parse(b.bytes()).unwrap();
+        assert!(log.findings().is_empty(), "{:?}", log.findings());
+        let topic = log.topic("t", 0).unwrap();
+        let columns = topic.load_columns().unwrap();
+        let paths: Vec<&str> = columns.iter().map(|c| c.path.as_str()).collect();
+        assert_eq!(
+            paths,
+            [
+                "timestamp",
+                "a",
+                "b",
+                "c",
+                "d",
+                "e",
+                "f",
+                "g",
+                "h",
+                "i",
+                "j",
+                "s"
+            ]
+        );
+        assert_eq!(columns[0].data, ColumnData::U64(vec![100, 101, 102]));
+        assert_eq!(columns[1].data, ColumnData::I8(vec![0, -1, -2]));
+        assert_eq!(columns[2].data, ColumnData::U8(vec![0, 1, 2]));
+        assert_eq!(columns[3].data, ColumnData::I16(vec![-300, -301, -302]));
+        assert_eq!(
+            columns[4].data,
+            ColumnData::U16(vec![60_000, 60_001, 60_002])
+        );
+        assert_eq!(columns[5].data, ColumnData::I32(vec![-70_000; 3]));
+        assert_eq!(columns[6].data, ColumnData::U32(vec![4_000_000_000; 3]));
+        assert_eq!(
+            columns[7].data,
+            ColumnData::I64(vec![-5_000_000_000_000; 3])
+        );
+        assert_eq!(columns[8].data, ColumnData::F32(vec![0.5, 1.5, 2.5]));
+        assert_eq!(columns[9].data, ColumnData::F64(vec![0.0, 1e300, 2e300]));
+        assert_eq!(columns[10].data, ColumnData::Bool(vec![false, true, false]));
+        assert_eq!(
+            columns[11].data,
+            ColumnData::Str {
+                width: 3,
+                bytes: b"x0\0x1\0x2\0".to_vec()
+            }
+        );
+        assert_eq!(columns[11].data.len(), 3);
+        assert_eq!(columns[11].data.get(1), Some(Value::Str(Str(b"x1\0"))));
+        assert_eq!(columns[11].data.get(3), None);
+    }
+
+    #[test]
+    fn threads_give_the_same_tables_in_subscription_order() {
+        let bytes = sample_log();
+        let log = ULog::parse(&bytes).unwrap();
+        let one = log.load_all_columns(1);
+        assert_eq!(one.len(), log.subscriptions().len());
+        for (loaded, topic) in one.iter().zip(log.topics()) {
+            assert_eq!(loaded.as_ref().unwrap(), &topic.load_columns().unwrap());
+        }
+        for threads in [0, 2, 3, 64] {
+            assert_eq!(log.load_all_columns(threads), one, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn a_topic_without_layout_is_an_error_and_others_still_load() {
+        let mut b = LogBuilder::new(1, 0);
+        b.format("good:uint64_t timestamp;float x;");
+        b.format("bad:uint64_t timestamp;missing_type y;");
+        b.subscribe(0, 0, "good");
+        b.subscribe(0, 1, "bad");
+        b.data(
+            0,
+            &[&5u64.to_le_bytes()[..], &1.5f32.to_le_bytes()].concat(),
+        );
+        let log = ULog::parse(b.bytes()).unwrap();
+        for threads in [1, 2] {
+            let all = log.load_all_columns(threads);
+            assert_eq!(all.len(), 2);
+            let good = all[0].as_ref().unwrap();
+            assert_eq!(good[1].data, ColumnData::F32(vec![1.5]));
+            let err = all[1].as_ref().unwrap_err();
+            assert!(err.to_string().contains("missing_type"), "{err}");
+        }
+    }
+}
