@@ -117,12 +117,14 @@ fn spec_departures_and_damage() {
     b.param("int32_t A", &1i32.to_le_bytes());
     b.param("int32_t B", &1i32.to_le_bytes());
     b.default_param(1, "int32_t A", &0i32.to_le_bytes());
+    // In the data section a logged string with a bad level is taken for corruption;
+    // before it, the reader keeps it and `check` names the level.
+    b.log(b'x', 20, "odd level");
     b.subscribe(0, 1, "pos");
     b.raw(b'X', &[1, 2, 3]);
     for i in 0..5 {
         pos(&mut b, 10 + i, 1.0);
     }
-    b.log(b'x', 20, "odd level");
     pos(&mut b, 30, 1.0);
     let mut bytes = b.bytes().to_vec();
     bytes.extend_from_slice(&[14, 0, b'D', 1, 0, 9]); // a data message cut short
