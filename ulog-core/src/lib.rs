@@ -28,6 +28,8 @@
 
 pub mod access;
 mod error;
+#[cfg(feature = "parquet")]
+pub mod export;
 mod finding;
 #[allow(unsafe_code)]
 #[cfg(feature = "mmap")]
