@@ -8,6 +8,7 @@ mod info;
 mod input;
 mod messages;
 mod params;
+mod parquet;
 mod progress;
 mod pyfmt;
 
@@ -17,7 +18,7 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV export.
+/// Read PX4 ULog flight logs: summary, logged messages, parameters, CSV and Parquet export.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -34,6 +35,7 @@ enum Command {
     Messages(messages::Args),
     Params(params::Args),
     Csv(csv::Args),
+    Parquet(parquet::Args),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +46,7 @@ fn main() -> ExitCode {
         Command::Messages(a) => messages::run(&a),
         Command::Params(a) => params::run(&a),
         Command::Csv(a) => csv::run(&a),
+        Command::Parquet(a) => parquet::run(&a),
     };
     match result {
         Ok(()) => Status::Ok.code(),

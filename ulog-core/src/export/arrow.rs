@@ -187,13 +187,15 @@ impl TopicTable {
     pub(crate) fn new(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
         let layout = topic.layout()?;
         let ts = topic.timestamp_field();
-        let unit = |name: &str| -> HashMap<String, String> {
+        // One metadata entry per field: Arrow writes metadata maps in hash order, and
+        // one entry keeps the files byte for byte the same from run to run.
+        let metadata = |name: &str, ty: String| -> HashMap<String, String> {
             match ts {
                 Some(t) if name == "timestamp" => HashMap::from([(
                     "unit".to_owned(),
                     if t.unit_us() == 1 { "us" } else { "ms" }.to_owned(),
                 )]),
-                _ => HashMap::new(),
+                _ => HashMap::from([("ulog.type".to_owned(), ty)]),
             }
         };
         let (fields, columns) = if options.flatten {
@@ -222,18 +224,15 @@ impl TopicTable {
                         r.ty().name().to_owned(),
                     ),
                 };
-                let mut meta = unit(r.path());
-                meta.insert("ulog.type".to_owned(), ty);
-                fields.push(Field::new(r.path(), node.data_type(), false).with_metadata(meta));
+                fields.push(
+                    Field::new(r.path(), node.data_type(), false)
+                        .with_metadata(metadata(r.path(), ty)),
+                );
                 nodes.push(node);
             }
             (Fields::from(fields), nodes)
         } else {
-            struct_of(layout.fields(), |f| {
-                let mut meta = unit(&f.name);
-                meta.insert("ulog.type".to_owned(), type_text(f));
-                meta
-            })
+            struct_of(layout.fields(), |f| metadata(&f.name, type_text(f)))
         };
         let formats: Vec<String> = layout.formats().iter().map(|f| f.to_string()).collect();
         let metadata = HashMap::from([

@@ -3,6 +3,9 @@
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use arrow_schema::Schema;
 
 use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression as ParquetCompression;
@@ -77,6 +80,17 @@ fn io_error(path: &Path, e: &dyn std::fmt::Display) -> Error {
 /// # Ok::<(), ulog_core::Error>(())
 /// ```
 pub fn write_parquet(log: &ULog<'_>, dir: &Path, options: &Options) -> Result<Export> {
+    write_parquet_with(log, dir, options, |_| {})
+}
+
+/// [`write_parquet`], calling `written` after each Parquet file is written (to show
+/// progress).
+pub fn write_parquet_with(
+    log: &ULog<'_>,
+    dir: &Path,
+    options: &Options,
+    mut written: impl FnMut(&Written),
+) -> Result<Export> {
     let topics = selected_topics(log, options)?;
     std::fs::create_dir_all(dir).map_err(|e| io_error(dir, &e))?;
     let mut files = Vec::with_capacity(topics.len());
@@ -104,7 +118,9 @@ pub fn write_parquet(log: &ULog<'_>, dir: &Path, options: &Options) -> Result<Ex
             );
             names.insert(name.clone());
         }
-        files.push(write_table(topic, &table, &dir.join(name), options)?);
+        let file = write_table(topic, &table, &dir.join(name), options)?;
+        written(&file);
+        files.push(file);
     }
     let metadata = dir.join(METADATA_FILE);
     write_metadata(log, &metadata)?;
@@ -162,12 +178,13 @@ fn write_table(
     let tmp = PathBuf::from(tmp);
     let file = File::create(&tmp).map_err(|e| io_error(&tmp, &e))?;
     let result = (|| {
-        let mut writer = ArrowWriter::try_new(
-            BufWriter::with_capacity(1 << 20, file),
-            table.schema.clone(),
-            Some(props),
-        )
-        .map_err(|e| write_error(&tmp, e))?;
+        // The schema's metadata goes in the Parquet key-value metadata (sorted), not
+        // in the encoded Arrow schema, where it would be in hash order: the files are
+        // the same from run to run. Readers merge the two.
+        let schema = Arc::new(Schema::new(table.schema.fields().clone()));
+        let mut writer =
+            ArrowWriter::try_new(BufWriter::with_capacity(1 << 20, file), schema, Some(props))
+                .map_err(|e| write_error(&tmp, e))?;
         let payloads: Vec<&[u8]> = topic.payloads().collect();
         let offsets = topic.message_offsets();
         let step = options.batch_rows.max(1);

@@ -25,10 +25,12 @@
 //!
 //! The `timestamp` column stays as logged (microseconds; milliseconds for the
 //! `uint8_t` timestamps of version 0 logs), with field metadata `unit` = `us` / `ms`.
-//! Every field has metadata `ulog.type` (its type as in the format string, e.g.
-//! `float[4]`). The schema has metadata `ulog.topic`, `ulog.multi_id` and
-//! `ulog.format` (the formats the topic uses, one per line, nested ones first); the
-//! Parquet files carry these three as key-value metadata too.
+//! Every other top-level field (every column, flattened) has metadata `ulog.type`, its
+//! type as in the format string (`float[4]`, `char[16]`, `esc_report[8]`). The schema
+//! has metadata `ulog.topic`, `ulog.multi_id` and `ulog.format` (the formats the
+//! topic uses, one per line, nested ones first); in the Parquet files these are
+//! key-value metadata, which Arrow readers put back in the schema. The files are the
+//! same byte for byte from run to run.
 //!
 //! ```
 //! use ulog_core::export::{self, Options};
@@ -58,7 +60,7 @@ pub use parquet;
 use arrow_array::RecordBatch;
 use arrow_schema::SchemaRef;
 
-pub use files::{write_parquet, write_topic, Export, Skipped, Written};
+pub use files::{write_parquet, write_parquet_with, write_topic, Export, Skipped, Written};
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
 
 use crate::access::topic::Topic;
