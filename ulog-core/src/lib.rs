@@ -13,6 +13,9 @@
 //!   What does fail (not a ULog file, unknown incompatibility flags) is an [`Error`]
 //!   with a matchable [`ErrorKind`] and the byte offset. The library never prints.
 //!
+//! - `export` (feature `parquet`) turns topics into Apache Arrow record batches and
+//!   writes them as Parquet files, one per topic instance, with a JSON metadata file.
+//!
 //! ```
 //! let bytes = ulog_core::testing::sample_log();
 //! let log = ulog_core::ULog::parse(&bytes)?;
