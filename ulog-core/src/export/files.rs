@@ -61,7 +61,8 @@ fn io_error(path: &Path, e: &dyn std::fmt::Display) -> Error {
 
 /// Writes every selected topic instance of `log` (see [`super::selected_topics`]) to
 /// its own Parquet file in `dir` (created when missing), named by [`super::file_name`],
-/// and the metadata file [`METADATA_FILE`]. Files already there are replaced.
+/// and the metadata file [`METADATA_FILE`]. Files of those names already there are
+/// replaced; other files in `dir` are left as they are.
 ///
 /// A topic whose format cannot be laid out, or that has no field with values, is
 /// left out and listed in [`Export::skipped`]. Errors: a topic of
