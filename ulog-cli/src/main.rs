@@ -12,6 +12,7 @@ mod info;
 mod input;
 mod messages;
 mod params;
+mod parquet;
 mod plot;
 mod progress;
 mod pyfmt;
@@ -23,7 +24,7 @@ use clap::{Parser, Subcommand};
 use crate::failure::{Failure, Status};
 
 /// Read PX4 ULog flight logs: summary, damage check, message dump, logged messages,
-/// parameters, CSV export, Rust bindings, plots.
+/// parameters, CSV and Parquet export, Rust bindings, plots.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -43,6 +44,7 @@ enum Command {
     Check(check::Args),
     Codegen(codegen::Args),
     Dump(dump::Args),
+    Parquet(parquet::Args),
     Plot(plot::Args),
 }
 
@@ -58,6 +60,7 @@ fn main() -> ExitCode {
         Command::Check(a) => check::run(&a),
         Command::Codegen(a) => done(codegen::run(&a)),
         Command::Dump(a) => done(dump::run(&a)),
+        Command::Parquet(a) => done(parquet::run(&a)),
         Command::Plot(a) => done(plot::run(&a)),
     };
     match result {

@@ -26,6 +26,15 @@ impl Progress {
         Progress::styled(len, what, "{prefix} [{bar:30}] {pos}/{len} {msg} ({eta})")
     }
 
+    /// A bar of `len` bytes, labelled `what`.
+    pub fn bytes(len: u64, what: &str) -> Progress {
+        Progress::styled(
+            len,
+            what,
+            "{prefix} [{bar:30}] {bytes}/{total_bytes} {msg} ({eta})",
+        )
+    }
+
     fn styled(len: u64, what: &str, template: &str) -> Progress {
         let visible = !QUIET.load(Ordering::Relaxed) && std::io::stderr().is_terminal();
         let target = if visible {
@@ -51,6 +60,13 @@ impl Progress {
     /// Sets the text after the counts (the current file or topic).
     pub fn message(&self, msg: impl Into<std::borrow::Cow<'static, str>>) {
         self.bar.set_message(msg);
+    }
+}
+
+impl Progress {
+    /// Runs `f` (which prints) with the bar hidden, so that its lines do not mix.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.bar.suspend(f)
     }
 }
 

@@ -80,6 +80,9 @@ pub enum ErrorKind {
     NoFlagBits,
     /// Appending: all three appended offsets are in use.
     NoFreeAppendedOffset,
+    /// An export to Arrow or Parquet failed (feature `parquet`), or a topic cannot be
+    /// exported.
+    Export(String),
     /// Appending: the log's format of a topic is not exactly the binding's, so values
     /// of the binding cannot be written to its subscription.
     LayoutDiffers {
@@ -189,6 +192,7 @@ impl fmt::Display for ErrorKind {
             ErrorKind::NoFreeAppendedOffset => {
                 write!(f, "all three appended offsets of the log are in use")
             }
+            ErrorKind::Export(e) => write!(f, "export: {e}"),
             ErrorKind::LayoutDiffers { topic, binding, log } => write!(
                 f,
                 "the log's format of `{topic}` is not the binding's: binding `{binding}`, log `{log}`"

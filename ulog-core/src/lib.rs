@@ -12,6 +12,8 @@
 //!   read: it becomes [`Finding`]s with byte offsets, and the data around it is kept.
 //!   What does fail (not a ULog file, unknown incompatibility flags) is an [`Error`]
 //!   with a matchable [`ErrorKind`] and the byte offset. The library never prints.
+//! - `export` (feature `parquet`) turns topics into Apache Arrow record batches and
+//!   writes them as Parquet files, one per topic instance, with a JSON metadata file.
 //!
 //! ```
 //! let bytes = ulog_core::testing::sample_log();
@@ -28,6 +30,8 @@
 
 pub mod access;
 mod error;
+#[cfg(feature = "parquet")]
+pub mod export;
 mod finding;
 #[allow(unsafe_code)]
 #[cfg(feature = "mmap")]

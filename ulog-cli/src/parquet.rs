@@ -1,0 +1,363 @@
+//! `ulog parquet`: logs to Parquet files, one per topic instance, plus a metadata file
+//! per log; many logs at once, in parallel.
+
+use std::collections::BTreeSet;
+use std::io::{self, Write};
+use std::num::NonZeroUsize;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use ulog_core::export::{self, Compression, Options};
+use ulog_core::ErrorKind;
+
+use crate::failure::{io_text, stdout_err, Failure, Status};
+use crate::input;
+use crate::progress::Progress;
+
+/// Convert logs to Parquet: each log to a folder `<log stem>/` holding one file per
+/// topic instance with data, `<topic>_<multi_id>.parquet` (`/` in a topic name becomes
+/// `_`), and `metadata.json` (information, multi-information, initial, changed and
+/// default parameters, logged messages, dropouts, damage found, topics). Any engine
+/// that reads Parquet (DuckDB, DataFusion, Polars, Spark) can then query many logs.
+///
+/// Columns keep the log's types (a `uint64_t` stays UInt64; `bool` is Boolean);
+/// arrays are fixed-size lists and nested types structs, unless `--flatten`; `char[N]`
+/// is a string without its trailing NULs, one character per byte (ISO 8859-1, so no
+/// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
+///
+/// Several logs are converted in parallel, each by one thread. A log that cannot be
+/// read or converted is reported (one line) and the others go on; the exit status is
+/// then that of the first failure, in the order given.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// ULog files, or directories: every `.ulg` file directly in a directory is
+    /// converted (not those in its subdirectories).
+    #[arg(required = true, value_name = "FILE_OR_DIR")]
+    inputs: Vec<PathBuf>,
+    /// Output directory: each log goes to `DIR/<log stem>/` (created if missing;
+    /// default: `<log stem>/` beside each log).
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    output: Option<PathBuf>,
+    /// pyulog's columns instead of struct and list columns: one per value, named by
+    /// path (`q[0]`, `esc[3].esc_rpm`), `timestamp` first, as `ulog csv` names them.
+    #[arg(long)]
+    flatten: bool,
+    /// Only these topics (comma-separated names, e.g. `vehicle_local_position,sensor_combined`).
+    /// With one log, a name it lacks is an error before anything is written; with many,
+    /// each log gets the topics it has, a log with none of them is skipped, and a name
+    /// in none of the logs is an error at the end.
+    #[arg(short = 'm', long = "messages", value_name = "TOPICS")]
+    messages: Option<String>,
+    /// Compression of the Parquet files.
+    #[arg(long, value_enum, default_value = "snappy", value_name = "CODEC")]
+    compression: Codec,
+    /// Logs converted at the same time (default: the number of CPUs).
+    #[arg(short = 'j', long = "jobs", value_name = "N")]
+    jobs: Option<NonZeroUsize>,
+}
+
+/// A compression codec.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Codec {
+    /// Snappy: fast, read by every engine.
+    Snappy,
+    /// No compression.
+    None,
+}
+
+/// One log to convert.
+struct Job {
+    input: PathBuf,
+    out: PathBuf,
+    size: u64,
+}
+
+/// What converting one log gave.
+struct Done {
+    /// Topic names of `-m` that the log has.
+    found: Vec<String>,
+    /// The first suggestion for a name it lacks.
+    suggestion: Option<String>,
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let jobs = plan(args)?;
+    let names: Option<Vec<String>> = args.messages.as_ref().map(|list| {
+        list.split(',')
+            .filter(|s| !s.is_empty())
+            .map(str::to_owned)
+            .collect()
+    });
+    let options = Options {
+        flatten: args.flatten,
+        topics: names.clone(),
+        compression: match args.compression {
+            Codec::Snappy => Compression::Snappy,
+            Codec::None => Compression::Uncompressed,
+        },
+        ..Options::default()
+    };
+    // With one log, names it lacks are an error before anything is written; with
+    // many, each log exports the names it has.
+    let strict = jobs.len() == 1;
+
+    let total: u64 = jobs.iter().map(|j| j.size).sum();
+    let progress = Progress::bytes(total, "parquet");
+    let threads = args
+        .jobs
+        .map(NonZeroUsize::get)
+        .or_else(|| {
+            std::thread::available_parallelism()
+                .ok()
+                .map(NonZeroUsize::get)
+        })
+        .unwrap_or(1)
+        .min(jobs.len())
+        .max(1);
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<Done, Failure>>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    let stdout = Mutex::new(io::stdout());
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(job) = jobs.get(i) else { break };
+                let result = convert(job, &options, strict, &progress, &stdout);
+                if let Err(Failure::Message(_, m)) = &result {
+                    if !strict {
+                        progress.suspend(|| {
+                            let _ = writeln!(io::stderr(), "ulog: {m}");
+                        });
+                    }
+                }
+                results.lock().expect("no thread panicked holding it")[i] = Some(result);
+            });
+        }
+    });
+    drop(progress);
+    io::stdout().flush().map_err(stdout_err)?;
+
+    let results = results.into_inner().expect("no thread panicked holding it");
+    let mut found = BTreeSet::new();
+    let mut suggestion = None;
+    let mut failures = Vec::new();
+    for r in results.into_iter().flatten() {
+        match r {
+            Ok(done) => {
+                found.extend(done.found);
+                suggestion = suggestion.or(done.suggestion);
+            }
+            Err(f) => failures.push(f),
+        }
+    }
+    if strict {
+        if let Some(f) = failures.into_iter().next() {
+            return Err(f);
+        }
+    } else if let Some(Failure::Message(status, _)) = failures.first() {
+        return Err(Failure::new(
+            *status,
+            "parquet",
+            format!(
+                "{} of {} logs failed (see above)",
+                failures.len(),
+                jobs.len()
+            ),
+        ));
+    }
+    if let Some(names) = &names {
+        if let Some(missing) = names.iter().find(|n| !found.contains(*n)) {
+            let mut text = format!("no topic `{missing}` in any of the {} logs", jobs.len());
+            if let Some(s) = suggestion {
+                text.push_str(&format!(" (did you mean `{s}`?)"));
+            }
+            return Err(Failure::unknown_name("parquet", text));
+        }
+    }
+    Ok(())
+}
+
+/// The logs named on the command line (directories expanded), each with its output
+/// folder. Missing inputs and two logs writing to one folder are errors before any
+/// work.
+fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
+    let mut files = Vec::new();
+    for input in &args.inputs {
+        let shown = input.display();
+        let meta =
+            std::fs::metadata(input).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+        if !meta.is_dir() {
+            files.push((input.clone(), meta.len()));
+            continue;
+        }
+        let entries =
+            std::fs::read_dir(input).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+        let mut logs = Vec::new();
+        for entry in entries {
+            let entry = entry.map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+            let path = entry.path();
+            let is_ulg = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ulg"));
+            let meta = std::fs::metadata(&path)
+                .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
+            if is_ulg && meta.is_file() {
+                logs.push((path, meta.len()));
+            }
+        }
+        if logs.is_empty() {
+            return Err(Failure::unreadable(
+                &shown,
+                "no .ulg files in this directory",
+            ));
+        }
+        logs.sort();
+        files.extend(logs);
+    }
+    let mut jobs: Vec<Job> = Vec::with_capacity(files.len());
+    let mut outs = std::collections::HashMap::new();
+    for (input, size) in files {
+        let out = output_dir(&input, args.output.as_deref());
+        if let Some(other) = outs.insert(out.clone(), input.clone()) {
+            return Err(Failure::about(
+                out.display(),
+                format!(
+                    "both {} and {} would be written here",
+                    other.display(),
+                    input.display()
+                ),
+            ));
+        }
+        jobs.push(Job { input, out, size });
+    }
+    Ok(jobs)
+}
+
+/// `DIR/<stem>` or, without `-o`, `<stem>` beside the log; the stem is the file name
+/// without `.ulg` (any case), or with `_parquet` added when it has no such extension.
+fn output_dir(input: &Path, dir: Option<&Path>) -> PathBuf {
+    let name = input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let stem = match name.len().checked_sub(4) {
+        Some(cut) if name.is_char_boundary(cut) && name[cut..].eq_ignore_ascii_case(".ulg") => {
+            name[..cut].to_owned()
+        }
+        _ => format!("{name}_parquet"),
+    };
+    match dir {
+        Some(d) => d.join(stem),
+        None => input.with_file_name(stem),
+    }
+}
+
+/// Converts one log, advancing `progress` by its size, and prints what was written.
+fn convert(
+    job: &Job,
+    options: &Options,
+    strict: bool,
+    progress: &Progress,
+    stdout: &Mutex<io::Stdout>,
+) -> Result<Done, Failure> {
+    let name = job.input.display().to_string();
+    let mut advanced = 0u64;
+    let result = (|| {
+        let file = input::open(&job.input)?;
+        let log = input::parse(&name, file.bytes())?;
+        progress.message(name.clone());
+        let mut options = options.clone();
+        let mut done = Done {
+            found: Vec::new(),
+            suggestion: None,
+        };
+        if let Some(names) = &options.topics {
+            let (found, missing): (Vec<String>, Vec<String>) = names
+                .iter()
+                .cloned()
+                .partition(|n| !log.topic_instances(n).is_empty());
+            done.suggestion = missing.iter().find_map(|n| match log.topic(n, 0) {
+                Err(e) => match e.kind {
+                    ErrorKind::TopicNotFound { suggestion, .. } => suggestion,
+                    _ => None,
+                },
+                Ok(_) => None,
+            });
+            if !strict {
+                if found.is_empty() {
+                    progress.suspend(|| {
+                        let mut out = stdout.lock().expect("no thread panicked holding it");
+                        writeln!(out, "Skipping {name}: it has none of the topics")
+                            .map_err(stdout_err)
+                    })?;
+                    return Ok(done);
+                }
+                options.topics = Some(found.clone());
+            }
+            done.found = found;
+        }
+        let export = export::write_parquet_with(&log, &job.out, &options, |w| {
+            let bytes = log
+                .topic(&w.topic, w.multi_id)
+                .ok()
+                .and_then(|t| t.payload(0).map(|p| (p.len() as u64 + 5) * t.len() as u64))
+                .unwrap_or(0)
+                .min(job.size - advanced);
+            advanced += bytes;
+            progress.inc(bytes);
+        })
+        .map_err(|e| match e.kind {
+            ErrorKind::TopicNotFound { .. } => Failure::unknown_name(&name, input::error_text(&e)),
+            // The text names the file that could not be written.
+            ErrorKind::Io(text) => Failure::Message(Status::Io, text),
+            _ => Failure::about(&name, input::error_text(&e)),
+        })?;
+        let rows: usize = export.files.iter().map(|w| w.rows).sum();
+        progress.suspend(|| -> Result<(), Failure> {
+            let mut err = io::stderr();
+            for s in &export.skipped {
+                let _ = writeln!(
+                    err,
+                    "ulog: {name}: topic `{}` ({}) cannot be exported, skipped: {}",
+                    s.topic,
+                    s.multi_id,
+                    input::error_text(&s.error)
+                );
+            }
+            let mut out = stdout.lock().expect("no thread panicked holding it");
+            writeln!(
+                out,
+                "Writing {} ({} Parquet file{}, {rows} rows, {})",
+                job.out.display(),
+                export.files.len(),
+                if export.files.len() == 1 { "" } else { "s" },
+                export::METADATA_FILE
+            )
+            .map_err(stdout_err)
+        })?;
+        Ok(done)
+    })();
+    progress.inc(job.size - advanced);
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_folder_is_the_stem() {
+        assert_eq!(output_dir(Path::new("a/b.ULG"), None), PathBuf::from("a/b"));
+        assert_eq!(
+            output_dir(Path::new("a/b.ulg"), Some(Path::new("out"))),
+            PathBuf::from("out/b")
+        );
+        // Never the log itself.
+        assert_eq!(
+            output_dir(Path::new("a/b"), None),
+            PathBuf::from("a/b_parquet")
+        );
+    }
+}

@@ -1,0 +1,190 @@
+//! `ulog parquet` on the bundled sample log: where files go, failures (one line, a
+//! distinct exit status each), many logs in one call, in parallel or not.
+
+mod common;
+
+use std::path::Path;
+
+fn stderr_line(out: &std::process::Output) -> String {
+    let text = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(text.lines().count(), 1, "one line: {text}");
+    text
+}
+
+fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v = Vec::new();
+    for entry in std::fs::read_dir(dir).expect("read dir") {
+        let path = entry.expect("entry").path();
+        if path.is_dir() {
+            for (name, bytes) in tree(&path) {
+                let parent = path.file_name().unwrap().to_string_lossy();
+                v.push((format!("{parent}/{name}"), bytes));
+            }
+        } else {
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            v.push((name, std::fs::read(&path).expect("read file")));
+        }
+    }
+    v.sort();
+    v
+}
+
+#[test]
+fn writes_beside_the_log_by_default() {
+    let log = common::sample_file("parquet_default_dir");
+    let stdout = common::ulog_ok(["parquet".as_ref(), log.as_os_str()]);
+    let dir = log.with_file_name("sample");
+    assert!(
+        stdout.contains(&format!("Writing {}", dir.display())),
+        "{stdout}"
+    );
+    let names: Vec<String> = tree(&dir).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(
+        names,
+        [
+            "battery_status_0.parquet",
+            "battery_status_1.parquet",
+            "esc_status_0.parquet",
+            "metadata.json",
+            "vehicle_attitude_0.parquet",
+            "vehicle_local_position_0.parquet",
+        ]
+    );
+}
+
+#[test]
+fn failures_are_one_line_with_distinct_statuses() {
+    let log = common::sample_file("parquet_failures");
+    let dir = log.parent().unwrap().to_owned();
+
+    let missing = dir.join("missing.ulg");
+    let out = common::ulog(["parquet".as_ref(), missing.as_os_str()]);
+    assert_eq!(out.status.code(), Some(3));
+    assert!(stderr_line(&out).contains("missing.ulg: no such file"));
+
+    let text = dir.join("text.ulg");
+    std::fs::write(&text, "not a log").unwrap();
+    let out = common::ulog(["parquet".as_ref(), text.as_os_str()]);
+    assert_eq!(out.status.code(), Some(4));
+    assert!(stderr_line(&out).contains("not a ULog file"));
+
+    let out_dir = dir.join("out");
+    let out = common::ulog([
+        "parquet".as_ref(),
+        log.as_os_str(),
+        "-o".as_ref(),
+        out_dir.as_os_str(),
+        "-m".as_ref(),
+        "battery_status,esc_statsu".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(5));
+    assert!(
+        stderr_line(&out).contains("no topic `esc_statsu` in the log (did you mean `esc_status`?)")
+    );
+    assert!(!out_dir.exists(), "nothing is written for an unknown topic");
+
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = common::ulog(["parquet".as_ref(), empty.as_os_str()]);
+    assert_eq!(out.status.code(), Some(3));
+    assert!(stderr_line(&out).contains("no .ulg files"));
+
+    let out = common::ulog(["parquet"]);
+    assert_eq!(out.status.code(), Some(2), "usage error");
+}
+
+#[test]
+fn a_directory_of_logs_converts_in_one_call_in_parallel_or_not() {
+    let root = common::scratch("parquet_many");
+    let logs = root.join("logs");
+    std::fs::create_dir_all(&logs).unwrap();
+    let sample = ulog_core::testing::sample_log();
+    for name in ["a.ulg", "b.ulg", "c.ULG"] {
+        std::fs::write(logs.join(name), &sample).unwrap();
+    }
+    std::fs::write(logs.join("bad.ulg"), "not a log").unwrap();
+    std::fs::write(logs.join("notes.txt"), "not a log either, and not .ulg").unwrap();
+
+    let mut trees = Vec::new();
+    for jobs in ["1", "2"] {
+        let out_dir = root.join(format!("out{jobs}"));
+        let out = common::ulog([
+            "parquet".as_ref(),
+            logs.as_os_str(),
+            "-o".as_ref(),
+            out_dir.as_os_str(),
+            "--jobs".as_ref(),
+            jobs.as_ref(),
+        ]);
+        // The bad log fails; the others are converted all the same.
+        assert_eq!(out.status.code(), Some(4), "jobs {jobs}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let lines: Vec<&str> = stderr.lines().collect();
+        assert_eq!(lines.len(), 2, "{stderr}");
+        assert!(lines[0].contains("bad.ulg: not a ULog file"), "{stderr}");
+        assert_eq!(lines[1], "ulog: parquet: 1 of 4 logs failed (see above)");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            stdout.lines().filter(|l| l.starts_with("Writing ")).count(),
+            3
+        );
+        let tree = tree(&out_dir);
+        let dirs: std::collections::BTreeSet<&str> = tree
+            .iter()
+            .map(|(n, _)| n.split('/').next().unwrap())
+            .collect();
+        assert_eq!(dirs.into_iter().collect::<Vec<_>>(), ["a", "b", "c"]);
+        trees.push(tree);
+    }
+    // The same files, byte for byte, whatever the number of threads.
+    let names = |t: &[(String, Vec<u8>)]| t.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&trees[0]), names(&trees[1]));
+    for ((name, a), (_, b)) in trees[0].iter().zip(&trees[1]) {
+        assert!(a == b, "{name} differs between --jobs 1 and --jobs 2");
+    }
+
+    // Topics: each log gets those it has; a name in none of them is an error.
+    std::fs::remove_file(logs.join("bad.ulg")).unwrap();
+    let out_dir = root.join("filtered");
+    let out = common::ulog([
+        "parquet".as_ref(),
+        logs.as_os_str(),
+        "-o".as_ref(),
+        out_dir.as_os_str(),
+        "-m".as_ref(),
+        "battery_status,vehicle_local_positon".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(5));
+    assert_eq!(
+        stderr_line(&out).trim_end(),
+        "ulog: parquet: no topic `vehicle_local_positon` in any of the 3 logs (did you mean `vehicle_local_position`?)"
+    );
+    let names: Vec<String> = tree(&out_dir.join("a"))
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "battery_status_0.parquet",
+            "battery_status_1.parquet",
+            "metadata.json"
+        ]
+    );
+
+    // Two logs that would write to one folder are refused before any work.
+    let other = root.join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("a.ulg"), &sample).unwrap();
+    let out_dir = root.join("clash");
+    let out = common::ulog([
+        "parquet".as_ref(),
+        logs.as_os_str(),
+        other.as_os_str(),
+        "-o".as_ref(),
+        out_dir.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(6));
+    assert!(stderr_line(&out).contains("would be written here"));
+    assert!(!out_dir.exists());
+}

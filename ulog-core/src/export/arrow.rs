@@ -1,0 +1,373 @@
+//! A topic as an Arrow schema and record batches.
+//!
+//! The schema is compiled once per topic from its layout into a tree of column
+//! readers (a value at a fixed offset, a `char[N]` string, a fixed-size list, a
+//! struct); each batch is then built column by column from the payloads, borrowed
+//! from the log.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use arrow_array::builder::StringBuilder;
+use arrow_array::types::{
+    Float32Type, Float64Type, Int16Type, Int32Type, Int64Type, Int8Type, UInt16Type, UInt32Type,
+    UInt64Type, UInt8Type,
+};
+use arrow_array::{
+    ArrayRef, ArrowPrimitiveType, BooleanArray, FixedSizeListArray, PrimitiveArray, RecordBatch,
+    RecordBatchOptions, StructArray,
+};
+use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef};
+use ulog_format::{BasicType, LayoutField, LayoutType};
+
+use crate::access::topic::{FieldShape, Topic};
+use crate::error::{Error, ErrorKind, Result};
+
+use super::{latin1, Options};
+
+/// How one column (or a part of one) is read from a payload. Offsets are relative
+/// to the start of the enclosing value (the payload, a struct, a list element).
+#[derive(Debug, Clone)]
+enum Node {
+    /// One value of a basic type.
+    Value { ty: BasicType, offset: usize },
+    /// A `char[len]` string.
+    Text { offset: usize, len: usize },
+    /// `len` elements, `stride` bytes apart.
+    List {
+        offset: usize,
+        len: usize,
+        stride: usize,
+        item: Box<Node>,
+    },
+    /// The fields of a nested format.
+    Struct {
+        offset: usize,
+        fields: Fields,
+        children: Vec<Node>,
+    },
+}
+
+impl Node {
+    /// The Arrow type of the column.
+    fn data_type(&self) -> DataType {
+        match self {
+            Node::Value { ty, .. } => basic_data_type(*ty),
+            Node::Text { .. } => DataType::Utf8,
+            Node::List { len, item, .. } => {
+                DataType::FixedSizeList(Arc::new(item_field(item)), *len as i32)
+            }
+            Node::Struct { fields, .. } => DataType::Struct(fields.clone()),
+        }
+    }
+
+    /// One past the last byte this node reads, relative to its base.
+    fn end(&self) -> usize {
+        match self {
+            Node::Value { ty, offset } => offset + ty.size(),
+            Node::Text { offset, len } => offset + len,
+            Node::List {
+                offset,
+                len,
+                stride,
+                item,
+            } => match len {
+                0 => 0,
+                n => offset + (n - 1) * stride + item.end(),
+            },
+            Node::Struct {
+                offset, children, ..
+            } => offset + children.iter().map(Node::end).max().unwrap_or(0),
+        }
+    }
+}
+
+fn item_field(item: &Node) -> Field {
+    Field::new("item", item.data_type(), false)
+}
+
+/// The Arrow type of a basic ULog type: the same width and signedness; a lone `char`
+/// is its byte.
+fn basic_data_type(ty: BasicType) -> DataType {
+    match ty {
+        BasicType::Int8 => DataType::Int8,
+        BasicType::UInt8 | BasicType::Char => DataType::UInt8,
+        BasicType::Int16 => DataType::Int16,
+        BasicType::UInt16 => DataType::UInt16,
+        BasicType::Int32 => DataType::Int32,
+        BasicType::UInt32 => DataType::UInt32,
+        BasicType::Int64 => DataType::Int64,
+        BasicType::UInt64 => DataType::UInt64,
+        BasicType::Float => DataType::Float32,
+        BasicType::Double => DataType::Float64,
+        BasicType::Bool => DataType::Boolean,
+    }
+}
+
+/// The reader of a field of a layout; `None` for padding, and for fields that hold
+/// no value (zero-length arrays, nested formats made of padding only).
+fn node_of(f: &LayoutField) -> Option<Node> {
+    if f.is_padding() {
+        return None;
+    }
+    let offset = f.offset;
+    match (&f.ty, f.array_len) {
+        (LayoutType::Basic(BasicType::Char), Some(len)) => Some(Node::Text { offset, len }),
+        (LayoutType::Basic(_), Some(0)) | (LayoutType::Nested(_), Some(0)) => None,
+        (LayoutType::Basic(ty), Some(len)) => Some(Node::List {
+            offset,
+            len,
+            stride: ty.size(),
+            item: Box::new(Node::Value { ty: *ty, offset: 0 }),
+        }),
+        (LayoutType::Basic(ty), None) => Some(Node::Value { ty: *ty, offset }),
+        (LayoutType::Nested(inner), array_len) => {
+            let (fields, children) = struct_of(inner.fields(), |_| HashMap::new());
+            if children.is_empty() {
+                return None;
+            }
+            let element = |offset| Node::Struct {
+                offset,
+                fields: fields.clone(),
+                children: children.clone(),
+            };
+            Some(match array_len {
+                Some(len) => Node::List {
+                    offset,
+                    len,
+                    stride: inner.size(),
+                    item: Box::new(element(0)),
+                },
+                None => element(offset),
+            })
+        }
+    }
+}
+
+/// The Arrow fields and readers of a list of layout fields, padding left out;
+/// `metadata` gives each field's Arrow metadata.
+fn struct_of(
+    fields: &[LayoutField],
+    metadata: impl Fn(&LayoutField) -> HashMap<String, String>,
+) -> (Fields, Vec<Node>) {
+    let mut arrow = Vec::new();
+    let mut nodes = Vec::new();
+    for f in fields {
+        if let Some(node) = node_of(f) {
+            arrow.push(
+                Field::new(f.name.clone(), node.data_type(), false).with_metadata(metadata(f)),
+            );
+            nodes.push(node);
+        }
+    }
+    (Fields::from(arrow), nodes)
+}
+
+/// The text of a field's type as in a format string: `float[4]`, `esc_report[8]`.
+fn type_text(f: &LayoutField) -> String {
+    match f.array_len {
+        Some(n) => format!("{}[{n}]", f.ty.name()),
+        None => f.ty.name().to_owned(),
+    }
+}
+
+/// A topic's schema with the readers of its columns.
+#[derive(Debug, Clone)]
+pub(crate) struct TopicTable {
+    pub(crate) schema: SchemaRef,
+    columns: Vec<Node>,
+    /// The payload size every column needs.
+    needed: usize,
+    name: String,
+}
+
+impl TopicTable {
+    /// Compiles the schema of `topic`: nested (one column per top-level field) or
+    /// flattened to pyulog's columns.
+    pub(crate) fn new(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
+        let layout = topic.layout()?;
+        let ts = topic.timestamp_field();
+        // One metadata entry per field: Arrow writes metadata maps in hash order, and
+        // one entry keeps the files byte for byte the same from run to run.
+        let metadata = |name: &str, ty: String| -> HashMap<String, String> {
+            match ts {
+                Some(t) if name == "timestamp" => HashMap::from([(
+                    "unit".to_owned(),
+                    if t.unit_us() == 1 { "us" } else { "ms" }.to_owned(),
+                )]),
+                _ => HashMap::from([("ulog.type".to_owned(), ty)]),
+            }
+        };
+        let (fields, columns) = if options.flatten {
+            let mut readers = topic.columns()?;
+            // pyulog's tables (and ulog2csv) put `timestamp` first.
+            if let Some(i) = readers.iter().position(|r| r.path() == "timestamp") {
+                let t = readers.remove(i);
+                readers.insert(0, t);
+            }
+            let mut fields = Vec::with_capacity(readers.len());
+            let mut nodes = Vec::with_capacity(readers.len());
+            for r in readers {
+                let (node, ty) = match r.shape() {
+                    FieldShape::String(len) => (
+                        Node::Text {
+                            offset: r.offset(),
+                            len,
+                        },
+                        format!("char[{len}]"),
+                    ),
+                    _ => (
+                        Node::Value {
+                            ty: r.ty(),
+                            offset: r.offset(),
+                        },
+                        r.ty().name().to_owned(),
+                    ),
+                };
+                fields.push(
+                    Field::new(r.path(), node.data_type(), false)
+                        .with_metadata(metadata(r.path(), ty)),
+                );
+                nodes.push(node);
+            }
+            (Fields::from(fields), nodes)
+        } else {
+            struct_of(layout.fields(), |f| metadata(&f.name, type_text(f)))
+        };
+        let formats: Vec<String> = layout.formats().iter().map(|f| f.to_string()).collect();
+        let metadata = HashMap::from([
+            ("ulog.topic".to_owned(), topic.name().to_owned()),
+            ("ulog.multi_id".to_owned(), topic.multi_id().to_string()),
+            ("ulog.format".to_owned(), formats.join("\n")),
+        ]);
+        let needed = columns.iter().map(Node::end).max().unwrap_or(0);
+        Ok(TopicTable {
+            schema: Arc::new(Schema::new_with_metadata(fields, metadata)),
+            columns,
+            needed,
+            name: topic.name().to_owned(),
+        })
+    }
+
+    /// The record batch of `payloads` (rows of the topic, in order), starting at
+    /// file offset `offsets[0]` (for errors).
+    pub(crate) fn batch(&self, payloads: &[&[u8]], offsets: &[u64]) -> Result<RecordBatch> {
+        for (p, &o) in payloads.iter().zip(offsets) {
+            if p.len() < self.needed {
+                return Err(Error::new(
+                    ErrorKind::PayloadSize {
+                        topic: self.name.clone(),
+                        expected: (self.needed, self.needed),
+                        found: p.len(),
+                    },
+                    o,
+                ));
+            }
+        }
+        let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();
+        let arrays: Vec<ArrayRef> = self
+            .columns
+            .iter()
+            .zip(self.schema.fields())
+            .map(|(node, field)| build(node, field.data_type(), &bases))
+            .collect::<Result<_>>()?;
+        RecordBatch::try_new_with_options(
+            self.schema.clone(),
+            arrays,
+            &RecordBatchOptions::new().with_row_count(Some(payloads.len())),
+        )
+        .map_err(|e| export_error(&e))
+    }
+}
+
+pub(crate) fn export_error(e: &dyn std::fmt::Display) -> Error {
+    Error::new(ErrorKind::Export(e.to_string()), 0)
+}
+
+/// The values of `node` at every base (a payload and the offset of the enclosing
+/// value in it). The payloads were checked to be long enough.
+fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRef> {
+    Ok(match node {
+        Node::Value { ty, offset } => values(*ty, *offset, bases),
+        Node::Text { offset, len } => {
+            let mut text = String::new();
+            let mut strings = StringBuilder::with_capacity(bases.len(), bases.len() * len);
+            for &(p, b) in bases {
+                latin1(&p[b + offset..b + offset + len], &mut text);
+                strings.append_value(&text);
+            }
+            Arc::new(strings.finish())
+        }
+        Node::List {
+            offset,
+            len,
+            stride,
+            item,
+        } => {
+            let DataType::FixedSizeList(item_field, _) = ty else {
+                unreachable!("a list node has a list type")
+            };
+            let inner: Vec<(&[u8], usize)> = bases
+                .iter()
+                .flat_map(|&(p, b)| (0..*len).map(move |j| (p, b + offset + j * stride)))
+                .collect();
+            let child = build(item, item_field.data_type(), &inner)?;
+            Arc::new(
+                FixedSizeListArray::try_new(item_field.clone(), *len as i32, child, None)
+                    .map_err(|e| export_error(&e))?,
+            )
+        }
+        Node::Struct {
+            offset,
+            fields,
+            children,
+        } => {
+            let inner: Vec<(&[u8], usize)> = bases.iter().map(|&(p, b)| (p, b + offset)).collect();
+            let arrays = children
+                .iter()
+                .zip(fields.iter())
+                .map(|(c, f)| build(c, f.data_type(), &inner))
+                .collect::<Result<Vec<_>>>()?;
+            Arc::new(
+                StructArray::try_new(fields.clone(), arrays, None).map_err(|e| export_error(&e))?,
+            )
+        }
+    })
+}
+
+fn primitive<T: ArrowPrimitiveType, const N: usize>(
+    offset: usize,
+    bases: &[(&[u8], usize)],
+    from: fn([u8; N]) -> T::Native,
+) -> ArrayRef {
+    Arc::new(PrimitiveArray::<T>::from_iter_values(bases.iter().map(
+        |&(p, b)| {
+            let mut a = [0u8; N];
+            a.copy_from_slice(&p[b + offset..b + offset + N]);
+            from(a)
+        },
+    )))
+}
+
+fn values(ty: BasicType, offset: usize, bases: &[(&[u8], usize)]) -> ArrayRef {
+    match ty {
+        BasicType::Int8 => primitive::<Int8Type, 1>(offset, bases, i8::from_le_bytes),
+        BasicType::UInt8 | BasicType::Char => {
+            primitive::<UInt8Type, 1>(offset, bases, u8::from_le_bytes)
+        }
+        BasicType::Int16 => primitive::<Int16Type, 2>(offset, bases, i16::from_le_bytes),
+        BasicType::UInt16 => primitive::<UInt16Type, 2>(offset, bases, u16::from_le_bytes),
+        BasicType::Int32 => primitive::<Int32Type, 4>(offset, bases, i32::from_le_bytes),
+        BasicType::UInt32 => primitive::<UInt32Type, 4>(offset, bases, u32::from_le_bytes),
+        BasicType::Int64 => primitive::<Int64Type, 8>(offset, bases, i64::from_le_bytes),
+        BasicType::UInt64 => primitive::<UInt64Type, 8>(offset, bases, u64::from_le_bytes),
+        BasicType::Float => primitive::<Float32Type, 4>(offset, bases, f32::from_le_bytes),
+        BasicType::Double => primitive::<Float64Type, 8>(offset, bases, f64::from_le_bytes),
+        BasicType::Bool => Arc::new(
+            bases
+                .iter()
+                .map(|&(p, b)| Some(p[b + offset] != 0))
+                .collect::<BooleanArray>(),
+        ),
+    }
+}

@@ -1,0 +1,327 @@
+//! The metadata file of an export: everything in a log that is not topic data, as
+//! one JSON document.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::read::log::ULog;
+use crate::read::message::KeyValue;
+use crate::value::Value;
+
+use super::latin1;
+
+/// The name of the metadata file [`super::write_parquet`] writes beside the Parquet files.
+pub const METADATA_FILE: &str = "metadata.json";
+
+/// The log's metadata as a JSON object (what [`write_metadata`] writes):
+///
+/// - `version`, `start_timestamp`, `last_timestamp` (µs), `truncated`, `damaged`;
+/// - `info`: object, information key name → value (the last of a repeated key);
+/// - `multi_info`: object, key name → list of entries, each the list of its parts'
+///   values (continued messages are parts of one entry);
+/// - `parameters`: object, name → value when logging started;
+/// - `changed_parameters`: list of `{timestamp, name, value}`, in file order;
+/// - `default_parameters`: list of `{name, value, default_types}`;
+/// - `logged_messages`: list of `{timestamp, level, level_raw, tag, text}` (`level`
+///   is `EMERGENCY`…`DEBUG` or null for an invalid level byte; `tag` is null for
+///   untagged messages);
+/// - `dropouts`: list of `{timestamp, duration_ms}`;
+/// - `findings`: list of `{offset, len, damage, text}` (what the reader stepped over);
+/// - `topics`: list of `{name, multi_id, rows}`, every subscription in file order.
+///
+/// Values: integers as JSON numbers (full `u64`/`i64` range), `float` and `double` as
+/// the shortest decimal that reads back to the same value (`null` for NaN and
+/// infinities), booleans, strings as in the Parquet files (trailing NULs removed, one
+/// character per byte), arrays as lists, and bytes of a type this reader cannot
+/// decode as a string of hex digits.
+///
+/// ```
+/// let bytes = ulog_core::testing::sample_log();
+/// let log = ulog_core::ULog::parse(&bytes)?;
+/// let json = ulog_core::export::metadata_json(&log);
+/// assert!(json.contains(r#""sys_name": "PX4""#));
+/// assert!(json.contains(r#""MPC_XY_VEL_MAX": 12.0"#));
+/// # Ok::<(), ulog_core::Error>(())
+/// ```
+pub fn metadata_json(log: &ULog<'_>) -> String {
+    let mut j = Json::default();
+    j.open('{');
+    j.key("version");
+    j.raw(&log.version().to_string());
+    j.key("start_timestamp");
+    j.raw(&log.start_timestamp().to_string());
+    j.key("last_timestamp");
+    j.raw(&log.last_timestamp().to_string());
+    j.key("truncated");
+    j.raw(if log.is_truncated() { "true" } else { "false" });
+    j.key("damaged");
+    j.raw(if log.has_damage() { "true" } else { "false" });
+
+    j.key("info");
+    key_values(&mut j, log.info());
+
+    j.key("multi_info");
+    j.open('{');
+    for m in log.multi_info() {
+        j.key(&m.name);
+        j.open('[');
+        for entry in &m.entries {
+            j.item();
+            j.open('[');
+            for part in entry {
+                j.item();
+                j.value(part.value());
+            }
+            j.close(']');
+        }
+        j.close(']');
+    }
+    j.close('}');
+
+    j.key("parameters");
+    key_values(&mut j, log.initial_params());
+
+    j.key("changed_parameters");
+    j.open('[');
+    for c in log.param_changes() {
+        j.item();
+        j.open('{');
+        j.key("timestamp");
+        j.raw(&c.timestamp.to_string());
+        j.key("name");
+        j.string(&c.kv.name());
+        j.key("value");
+        j.value(c.kv.value());
+        j.close('}');
+    }
+    j.close(']');
+
+    j.key("default_parameters");
+    j.open('[');
+    for d in log.default_params() {
+        j.item();
+        j.open('{');
+        j.key("name");
+        j.string(&d.kv.name());
+        j.key("value");
+        j.value(d.kv.value());
+        j.key("default_types");
+        j.raw(&d.default_types.to_string());
+        j.close('}');
+    }
+    j.close(']');
+
+    j.key("logged_messages");
+    j.open('[');
+    for m in log.logged_messages() {
+        j.item();
+        j.open('{');
+        j.key("timestamp");
+        j.raw(&m.timestamp.to_string());
+        j.key("level");
+        match m.level() {
+            Some(l) => j.string(l.name()),
+            None => j.raw("null"),
+        }
+        j.key("level_raw");
+        j.raw(&m.raw_level.to_string());
+        j.key("tag");
+        match m.tag {
+            Some(t) => j.raw(&t.to_string()),
+            None => j.raw("null"),
+        }
+        j.key("text");
+        j.text(m.text.as_bytes());
+        j.close('}');
+    }
+    j.close(']');
+
+    j.key("dropouts");
+    j.open('[');
+    for d in log.dropouts() {
+        j.item();
+        j.open('{');
+        j.key("timestamp");
+        j.raw(&d.timestamp.to_string());
+        j.key("duration_ms");
+        j.raw(&d.duration_ms.to_string());
+        j.close('}');
+    }
+    j.close(']');
+
+    j.key("findings");
+    j.open('[');
+    for f in log.findings() {
+        j.item();
+        j.open('{');
+        j.key("offset");
+        j.raw(&f.offset.to_string());
+        j.key("len");
+        j.raw(&f.len.to_string());
+        j.key("damage");
+        j.raw(if f.is_damage() { "true" } else { "false" });
+        j.key("text");
+        j.string(&f.to_string());
+        j.close('}');
+    }
+    j.close(']');
+
+    j.key("topics");
+    j.open('[');
+    for t in log.topics() {
+        j.item();
+        j.open('{');
+        j.key("name");
+        j.string(t.name());
+        j.key("multi_id");
+        j.raw(&t.multi_id().to_string());
+        j.key("rows");
+        j.raw(&t.len().to_string());
+        j.close('}');
+    }
+    j.close(']');
+    j.close('}');
+    j.out.push('\n');
+    j.out
+}
+
+/// Writes [`metadata_json`] to `path`.
+pub fn write_metadata(log: &ULog<'_>, path: &Path) -> Result<()> {
+    std::fs::write(path, metadata_json(log))
+        .map_err(|e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0))
+}
+
+/// An object of key-value messages by name; a repeated name keeps its first place and
+/// its last value.
+fn key_values(j: &mut Json, kvs: &[KeyValue<'_>]) {
+    let mut entries: Vec<(String, Value<'_>)> = Vec::with_capacity(kvs.len());
+    for kv in kvs {
+        let name = kv.name();
+        match entries.iter_mut().find(|(n, _)| *n == name) {
+            Some(e) => e.1 = kv.value(),
+            None => entries.push((name.into_owned(), kv.value())),
+        }
+    }
+    j.open('{');
+    for (name, value) in entries {
+        j.key(&name);
+        j.value(value);
+    }
+    j.close('}');
+}
+
+/// A small JSON writer, indented two spaces per level.
+#[derive(Default)]
+struct Json {
+    out: String,
+    /// Whether the innermost open object or list has an element yet.
+    first: Vec<bool>,
+    scratch: String,
+}
+
+impl Json {
+    fn newline(&mut self) {
+        self.out.push('\n');
+        for _ in 0..self.first.len() {
+            self.out.push_str("  ");
+        }
+    }
+
+    fn open(&mut self, c: char) {
+        self.out.push(c);
+        self.first.push(true);
+    }
+
+    fn close(&mut self, c: char) {
+        let empty = self.first.pop().unwrap_or(true);
+        if !empty {
+            self.newline();
+        }
+        self.out.push(c);
+    }
+
+    /// Starts an element of the innermost list or object.
+    fn item(&mut self) {
+        if let Some(first) = self.first.last_mut() {
+            if !*first {
+                self.out.push(',');
+            }
+            *first = false;
+        }
+        self.newline();
+    }
+
+    fn key(&mut self, k: &str) {
+        self.item();
+        self.string(k);
+        self.out.push_str(": ");
+    }
+
+    fn raw(&mut self, s: &str) {
+        self.out.push_str(s);
+    }
+
+    fn string(&mut self, s: &str) {
+        self.out.push('"');
+        for c in s.chars() {
+            match c {
+                '"' => self.out.push_str("\\\""),
+                '\\' => self.out.push_str("\\\\"),
+                '\n' => self.out.push_str("\\n"),
+                '\r' => self.out.push_str("\\r"),
+                '\t' => self.out.push_str("\\t"),
+                c if (c as u32) < 0x20 || c == '\u{7f}' => {
+                    let _ = write!(self.out, "\\u{:04x}", c as u32);
+                }
+                c => self.out.push(c),
+            }
+        }
+        self.out.push('"');
+    }
+
+    /// A `char[N]` value: trailing NULs removed, one character per byte.
+    fn text(&mut self, bytes: &[u8]) {
+        let mut s = std::mem::take(&mut self.scratch);
+        latin1(bytes, &mut s);
+        self.string(&s);
+        self.scratch = s;
+    }
+
+    fn value(&mut self, v: Value<'_>) {
+        match v {
+            Value::F32(f) if f.is_finite() => {
+                let _ = write!(self.out, "{f:?}");
+            }
+            Value::F64(f) if f.is_finite() => {
+                let _ = write!(self.out, "{f:?}");
+            }
+            Value::F32(_) | Value::F64(_) => self.raw("null"),
+            Value::Bool(b) => self.raw(if b { "true" } else { "false" }),
+            Value::Str(s) => self.text(s.as_bytes()),
+            Value::Array(a) => {
+                self.out.push('[');
+                for (i, e) in a.iter().enumerate() {
+                    if i > 0 {
+                        self.out.push_str(", ");
+                    }
+                    self.value(e);
+                }
+                self.out.push(']');
+            }
+            Value::Bytes(b) => {
+                let mut hex = String::with_capacity(b.len() * 2);
+                for x in b {
+                    let _ = write!(hex, "{x:02x}");
+                }
+                self.string(&hex);
+            }
+            other => match other.as_i128() {
+                Some(n) => {
+                    let _ = write!(self.out, "{n}");
+                }
+                None => self.raw("null"),
+            },
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! Export of a log to Apache Arrow record batches and Parquet files (feature
+//! `parquet`), for query engines that read Parquet (DataFusion, DuckDB, Spark, Polars).
+//!
+//! [`write_parquet`] writes one Parquet file per topic instance with data, named
+//! [`file_name`] (`<topic>_<multi_id>.parquet`, `/` in a topic name becoming `_`), and
+//! a [`METADATA_FILE`] (`metadata.json`, see [`metadata_json`]) with the log's
+//! information, parameters, logged messages, dropouts and findings.
+//!
+//! # Columns
+//!
+//! Columns have the log's types: `uint8_t`…`uint64_t` are `UInt8`…`UInt64`, `int8_t`…
+//! `int64_t` are `Int8`…`Int64`, `float` is `Float32`, `double` is `Float64`, `bool`
+//! is `Boolean` (any non-zero byte is true), a lone `char` is its byte (`UInt8`).
+//! `char[N]` is a `Utf8` string: the bytes with trailing NULs removed, each byte one
+//! character (ISO 8859-1), so no byte is lost even when the text is not UTF-8 (ASCII
+//! reads as itself; encode the text as Latin-1 to get the bytes back). No column is
+//! nullable.
+//!
+//! By default ([`Options::flatten`] false) there is one column per top-level field, in
+//! format order: arrays are `FixedSizeList` columns, nested formats `Struct` columns
+//! (arrays of them, lists of structs). With `flatten`, the columns are pyulog's:
+//! one per leaf, named by path (`q[0]`, `esc[3].esc_rpm`), `timestamp` first, as
+//! `ulog2csv` writes them. Padding fields are left out, nested ones too, as are fields
+//! with no values (zero-length arrays, nested formats of padding only).
+//!
+//! The `timestamp` column stays as logged (microseconds; milliseconds for the
+//! `uint8_t` timestamps of version 0 logs), with field metadata `unit` = `us` / `ms`.
+//! Every other top-level field (every column, flattened) has metadata `ulog.type`, its
+//! type as in the format string (`float[4]`, `char[16]`, `esc_report[8]`). The schema
+//! has metadata `ulog.topic`, `ulog.multi_id` and `ulog.format` (the formats the
+//! topic uses, one per line, nested ones first); in the Parquet files these are
+//! key-value metadata, which Arrow readers put back in the schema. The files are the
+//! same byte for byte from run to run.
+//!
+//! ```
+//! use ulog_core::export::{self, Options};
+//! let bytes = ulog_core::testing::sample_log();
+//! let log = ulog_core::ULog::parse(&bytes)?;
+//! let topic = log.topic("esc_status", 0)?;
+//! let batch = export::topic_record_batch(&topic, &Options::default())?;
+//! assert_eq!(batch.num_rows(), topic.len());
+//! assert_eq!(batch.schema().field(0).name(), "timestamp");
+//!
+//! let flat = Options { flatten: true, ..Options::default() };
+//! let batch = export::topic_record_batch(&topic, &flat)?;
+//! assert!(batch.schema().field_with_name("esc[1].esc_rpm").is_ok());
+//! # Ok::<(), ulog_core::Error>(())
+//! ```
+
+mod arrow;
+mod files;
+mod metadata;
+#[cfg(test)]
+mod tests;
+
+pub use arrow_array;
+pub use arrow_schema;
+pub use parquet;
+
+use arrow_array::RecordBatch;
+use arrow_schema::SchemaRef;
+
+pub use files::{write_parquet, write_parquet_with, write_topic, Export, Skipped, Written};
+pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
+
+use crate::access::topic::Topic;
+use crate::error::Result;
+use crate::read::log::ULog;
+use arrow::TopicTable;
+
+/// The compression of the Parquet files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Compression {
+    /// No compression.
+    Uncompressed,
+    /// Snappy (fast; read by every Parquet engine).
+    #[default]
+    Snappy,
+}
+
+/// What to export, and how.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Options {
+    /// Flatten to pyulog's columns (`a.b[3].c`) instead of struct and list columns.
+    pub flatten: bool,
+    /// Only these topics (every instance of each); `None`: every topic. A name that is
+    /// not in the log is an error ([`crate::ErrorKind::TopicNotFound`]).
+    pub topics: Option<Vec<String>>,
+    /// Compression of the Parquet files.
+    pub compression: Compression,
+    /// Rows per record batch when writing (bounds the memory used per topic); at
+    /// least 1.
+    pub batch_rows: usize,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            flatten: false,
+            topics: None,
+            compression: Compression::Snappy,
+            batch_rows: 65_536,
+        }
+    }
+}
+
+/// The Arrow schema of a topic (see the [module docs](self) for the columns).
+pub fn topic_schema(topic: &Topic<'_, '_>, options: &Options) -> Result<SchemaRef> {
+    Ok(TopicTable::new(topic, options)?.schema)
+}
+
+/// Every row of a topic as one record batch.
+pub fn topic_record_batch(topic: &Topic<'_, '_>, options: &Options) -> Result<RecordBatch> {
+    let table = TopicTable::new(topic, options)?;
+    let payloads: Vec<&[u8]> = topic.payloads().collect();
+    table.batch(&payloads, topic.message_offsets())
+}
+
+/// The rows of a topic as record batches of at most [`Options::batch_rows`] rows.
+pub fn topic_record_batches<'l, 'a>(
+    topic: &Topic<'l, 'a>,
+    options: &Options,
+) -> Result<RecordBatches<'l, 'a>> {
+    Ok(RecordBatches {
+        table: TopicTable::new(topic, options)?,
+        topic: *topic,
+        next: 0,
+        batch_rows: options.batch_rows.max(1),
+    })
+}
+
+/// The record batches of one topic, in row order (see [`topic_record_batches`]).
+#[derive(Debug)]
+pub struct RecordBatches<'l, 'a> {
+    table: TopicTable,
+    topic: Topic<'l, 'a>,
+    next: usize,
+    batch_rows: usize,
+}
+
+impl RecordBatches<'_, '_> {
+    /// The schema of every batch.
+    pub fn schema(&self) -> SchemaRef {
+        self.table.schema.clone()
+    }
+}
+
+impl Iterator for RecordBatches<'_, '_> {
+    type Item = Result<RecordBatch>;
+
+    fn next(&mut self) -> Option<Result<RecordBatch>> {
+        let n = self.topic.len();
+        if self.next >= n {
+            return None;
+        }
+        let end = (self.next + self.batch_rows).min(n);
+        let payloads: Vec<&[u8]> = (self.next..end)
+            .filter_map(|i| self.topic.payload(i))
+            .collect();
+        let offsets = &self.topic.message_offsets()[self.next..end];
+        self.next = end;
+        Some(self.table.batch(&payloads, offsets))
+    }
+}
+
+/// The topic instances [`write_parquet`] exports: those with data messages, of the
+/// topics named in [`Options::topics`] (all when `None`), sorted by name and multi_id.
+///
+/// An error names the first topic of the list that is not in the log (with the
+/// closest name, when one is close).
+pub fn selected_topics<'l, 'a>(log: &'l ULog<'a>, options: &Options) -> Result<Vec<Topic<'l, 'a>>> {
+    if let Some(names) = &options.topics {
+        for name in names {
+            if log.topic_instances(name).is_empty() {
+                // Gives the error with its suggestion.
+                log.topic(name, 0)?;
+            }
+        }
+    }
+    let mut topics: Vec<Topic<'l, 'a>> = log
+        .topics()
+        .filter(|t| !t.is_empty())
+        .filter(|t| {
+            options
+                .topics
+                .as_ref()
+                .map_or(true, |names| names.iter().any(|n| n == t.name()))
+        })
+        .collect();
+    topics.sort_by(|a, b| (a.name(), a.multi_id()).cmp(&(b.name(), b.multi_id())));
+    Ok(topics)
+}
+
+/// The file name of a topic instance: `<topic>_<multi_id>.parquet`, `/` in the name
+/// becoming `_`.
+pub fn file_name(topic: &Topic<'_, '_>) -> String {
+    format!(
+        "{}_{}.parquet",
+        topic.name().replace('/', "_"),
+        topic.multi_id()
+    )
+}
+
+/// Appends the text of a `char[N]` value to `out` (cleared first): the bytes up to the
+/// last non-NUL byte, each byte one character (ISO 8859-1, lossless).
+pub(crate) fn latin1(bytes: &[u8], out: &mut String) {
+    out.clear();
+    let end = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
+    out.extend(bytes[..end].iter().map(|&b| char::from(b)));
+}

@@ -1,0 +1,491 @@
+use std::path::PathBuf;
+
+use arrow_array::cast::AsArray;
+use arrow_array::types::{
+    Float32Type, Float64Type, Int16Type, Int32Type, Int64Type, Int8Type, UInt16Type, UInt32Type,
+    UInt64Type, UInt8Type,
+};
+use arrow_array::{Array, RecordBatch};
+use arrow_schema::DataType;
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+use super::*;
+use crate::testing::LogBuilder;
+use crate::ErrorKind;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ulog-export-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// A log with one topic of every basic type, two rows of extreme values.
+fn all_types_log() -> Vec<u8> {
+    let mut b = LogBuilder::new(1, 0);
+    b.format(
+        "all:uint64_t timestamp;int8_t a;uint8_t b;int16_t c;uint16_t d;int32_t e;\
+         uint32_t f;int64_t g;uint64_t h;float i;double j;bool k;char l;char[5] s;\
+         uint8_t[3] _padding0;",
+    );
+    b.subscribe(0, 0, "all");
+    for row in 0..2u8 {
+        let mut p = Vec::new();
+        p.extend_from_slice(&(1000 + u64::from(row)).to_le_bytes());
+        if row == 0 {
+            p.push(i8::MIN as u8);
+            p.push(u8::MAX);
+            p.extend_from_slice(&i16::MIN.to_le_bytes());
+            p.extend_from_slice(&u16::MAX.to_le_bytes());
+            p.extend_from_slice(&i32::MIN.to_le_bytes());
+            p.extend_from_slice(&u32::MAX.to_le_bytes());
+            p.extend_from_slice(&i64::MIN.to_le_bytes());
+            p.extend_from_slice(&u64::MAX.to_le_bytes());
+            p.extend_from_slice(&f32::NAN.to_le_bytes());
+            p.extend_from_slice(&f64::NEG_INFINITY.to_le_bytes());
+            p.push(2); // any non-zero byte is true
+            p.push(b'x');
+            p.extend_from_slice(b"a\xff\0b\0");
+        } else {
+            p.push(i8::MAX as u8);
+            p.push(0);
+            p.extend_from_slice(&i16::MAX.to_le_bytes());
+            p.extend_from_slice(&0u16.to_le_bytes());
+            p.extend_from_slice(&i32::MAX.to_le_bytes());
+            p.extend_from_slice(&7u32.to_le_bytes());
+            p.extend_from_slice(&i64::MAX.to_le_bytes());
+            p.extend_from_slice(&(1u64 << 63).to_le_bytes());
+            p.extend_from_slice(&0.1f32.to_le_bytes());
+            p.extend_from_slice(&1e300f64.to_le_bytes());
+            p.push(0);
+            p.push(0);
+            p.extend_from_slice(b"hello");
+        }
+        b.data(0, &p); // trailing padding left out, as writers may
+    }
+    b.into_bytes()
+}
+
+/// A log with nested formats, arrays of them, arrays and nested padding.
+fn nested_log() -> Vec<u8> {
+    let mut b = LogBuilder::new(1, 0);
+    b.format("inner:uint32_t v;char[4] name;float[2] xy;uint8_t[2] _padding0;");
+    b.format("pad_only:uint8_t[4] _padding0;");
+    b.format(
+        "outer:uint64_t timestamp;inner[2] items;inner one;int16_t[3] arr;pad_only p;\
+         float[0] none;bool[2] flags;",
+    );
+    b.subscribe(3, 0, "outer");
+    for row in 0..3u32 {
+        let mut p = Vec::new();
+        p.extend_from_slice(&u64::from(row * 10).to_le_bytes());
+        for k in 0..3u32 {
+            p.extend_from_slice(&(row * 100 + k).to_le_bytes());
+            p.extend_from_slice(if k == 1 { b"ab\0\0" } else { b"wxyz" });
+            p.extend_from_slice(&(row as f32 + k as f32 / 2.0).to_le_bytes());
+            p.extend_from_slice(&(-(row as f32)).to_le_bytes());
+            p.extend_from_slice(&[0xee, 0xee]);
+        }
+        for k in 0..3i16 {
+            p.extend_from_slice(&(k - row as i16).to_le_bytes());
+        }
+        p.extend_from_slice(&[0xdd; 4]);
+        p.extend_from_slice(&[1, (row % 2) as u8]);
+        b.data(0, &p);
+    }
+    b.into_bytes()
+}
+
+fn flat() -> Options {
+    Options {
+        flatten: true,
+        ..Options::default()
+    }
+}
+
+#[test]
+fn every_basic_type_keeps_its_width_and_value() {
+    let bytes = all_types_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let topic = log.topic("all", 0).unwrap();
+    for options in [Options::default(), flat()] {
+        let batch = topic_record_batch(&topic, &options).unwrap();
+        let schema = batch.schema();
+        let types: Vec<(&str, &DataType)> = schema
+            .fields()
+            .iter()
+            .map(|f| (f.name().as_str(), f.data_type()))
+            .collect();
+        assert_eq!(
+            types,
+            [
+                ("timestamp", &DataType::UInt64),
+                ("a", &DataType::Int8),
+                ("b", &DataType::UInt8),
+                ("c", &DataType::Int16),
+                ("d", &DataType::UInt16),
+                ("e", &DataType::Int32),
+                ("f", &DataType::UInt32),
+                ("g", &DataType::Int64),
+                ("h", &DataType::UInt64),
+                ("i", &DataType::Float32),
+                ("j", &DataType::Float64),
+                ("k", &DataType::Boolean),
+                ("l", &DataType::UInt8),
+                ("s", &DataType::Utf8),
+            ]
+        );
+        assert!(schema.fields().iter().all(|f| !f.is_nullable()));
+        let col = |n: &str| batch.column_by_name(n).unwrap().clone();
+        assert_eq!(
+            col("timestamp").as_primitive::<UInt64Type>().values(),
+            &[1000, 1001]
+        );
+        assert_eq!(
+            col("a").as_primitive::<Int8Type>().values(),
+            &[i8::MIN, i8::MAX]
+        );
+        assert_eq!(col("b").as_primitive::<UInt8Type>().values(), &[u8::MAX, 0]);
+        assert_eq!(
+            col("c").as_primitive::<Int16Type>().values(),
+            &[i16::MIN, i16::MAX]
+        );
+        assert_eq!(
+            col("d").as_primitive::<UInt16Type>().values(),
+            &[u16::MAX, 0]
+        );
+        assert_eq!(
+            col("e").as_primitive::<Int32Type>().values(),
+            &[i32::MIN, i32::MAX]
+        );
+        assert_eq!(
+            col("f").as_primitive::<UInt32Type>().values(),
+            &[u32::MAX, 7]
+        );
+        assert_eq!(
+            col("g").as_primitive::<Int64Type>().values(),
+            &[i64::MIN, i64::MAX]
+        );
+        assert_eq!(
+            col("h").as_primitive::<UInt64Type>().values(),
+            &[u64::MAX, 1 << 63]
+        );
+        let i = col("i");
+        let i = i.as_primitive::<Float32Type>();
+        assert!(i.value(0).is_nan());
+        assert_eq!(i.value(1), 0.1f32);
+        assert_eq!(
+            col("j").as_primitive::<Float64Type>().values(),
+            &[f64::NEG_INFINITY, 1e300]
+        );
+        let k = col("k");
+        assert_eq!(
+            (k.as_boolean().value(0), k.as_boolean().value(1)),
+            (true, false)
+        );
+        assert_eq!(col("l").as_primitive::<UInt8Type>().values(), &[b'x', 0]);
+        let s = col("s");
+        let s = s.as_string::<i32>();
+        // Trailing NULs go; an inner NUL and a non-UTF-8 byte stay, one char per byte.
+        assert_eq!((s.value(0), s.value(1)), ("a\u{ff}\0b", "hello"));
+        assert_eq!(
+            schema.field_with_name("timestamp").unwrap().metadata()["unit"],
+            "us"
+        );
+        assert_eq!(
+            schema.field_with_name("s").unwrap().metadata()["ulog.type"],
+            "char[5]"
+        );
+        assert_eq!(schema.metadata()["ulog.topic"], "all");
+        assert_eq!(schema.metadata()["ulog.multi_id"], "0");
+        assert!(schema.metadata()["ulog.format"].starts_with("all:uint64_t timestamp;"));
+    }
+}
+
+#[test]
+fn nested_formats_are_structs_and_arrays_fixed_size_lists() {
+    let bytes = nested_log();
+    let log = ULog::parse(&bytes).unwrap();
+    assert!(log.findings().is_empty(), "{:?}", log.findings());
+    let topic = log.topic("outer", 3).unwrap();
+    let batch = topic_record_batch(&topic, &Options::default()).unwrap();
+    let schema = batch.schema();
+    let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+    // Padding, a struct of padding only and a zero-length array are left out.
+    assert_eq!(names, ["timestamp", "items", "one", "arr", "flags"]);
+    let DataType::FixedSizeList(item, 2) = schema.field(1).data_type() else {
+        panic!("{:?}", schema.field(1))
+    };
+    let DataType::Struct(inner) = item.data_type() else {
+        panic!("{item:?}")
+    };
+    let inner_names: Vec<&str> = inner.iter().map(|f| f.name().as_str()).collect();
+    assert_eq!(inner_names, ["v", "name", "xy"]);
+    assert!(
+        matches!(inner[2].data_type(), DataType::FixedSizeList(f, 2) if f.data_type() == &DataType::Float32)
+    );
+    assert_eq!(schema.field(1).metadata()["ulog.type"], "inner[2]");
+    assert!(schema.metadata()["ulog.format"].starts_with("inner:"));
+
+    // Row 2, items[1]: v = 201, name "ab", xy = [2.5, -2.0].
+    let items = batch.column(1).as_fixed_size_list();
+    let row2 = items.value(2);
+    let row2 = row2.as_struct();
+    assert_eq!(
+        row2.column(0).as_primitive::<UInt32Type>().values(),
+        &[200, 201]
+    );
+    assert_eq!(row2.column(1).as_string::<i32>().value(1), "ab");
+    let xy = row2.column(2).as_fixed_size_list().value(1);
+    assert_eq!(xy.as_primitive::<Float32Type>().values(), &[2.5, -2.0]);
+    let one = batch.column(2).as_struct();
+    assert_eq!(one.column(0).as_primitive::<UInt32Type>().value(1), 102);
+    let arr = batch.column(3).as_fixed_size_list().value(1);
+    assert_eq!(arr.as_primitive::<Int16Type>().values(), &[-1, 0, 1]);
+    let flags = batch.column(4).as_fixed_size_list().value(1);
+    assert!(flags.as_boolean().value(0) && flags.as_boolean().value(1));
+
+    // Flattened: pyulog's columns, in the reader's order, timestamp first.
+    let batch = topic_record_batch(&topic, &flat()).unwrap();
+    let names: Vec<String> = batch
+        .schema()
+        .fields()
+        .iter()
+        .map(|f| f.name().clone())
+        .collect();
+    let expected: Vec<String> = topic
+        .columns()
+        .unwrap()
+        .iter()
+        .map(|c| c.path().to_owned())
+        .collect();
+    assert_eq!(names, expected);
+    assert!(names.contains(&"items[1].xy[0]".to_owned()));
+    let v = batch.column_by_name("items[1].v").unwrap();
+    assert_eq!(v.as_primitive::<UInt32Type>().values(), &[1, 101, 201]);
+    let name = batch.column_by_name("items[1].name").unwrap();
+    assert_eq!(name.as_string::<i32>().value(0), "ab");
+}
+
+/// The schema (with its metadata) and the one batch of a small Parquet file.
+fn read_back(path: &std::path::Path) -> (arrow_schema::SchemaRef, RecordBatch) {
+    let file = std::fs::File::open(path).unwrap();
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    let schema = builder.schema().clone();
+    let mut batches: Vec<RecordBatch> = builder.build().unwrap().map(|b| b.unwrap()).collect();
+    assert_eq!(batches.len(), 1, "one batch per small file");
+    (schema, batches.remove(0))
+}
+
+#[test]
+fn parquet_files_read_back_equal_to_the_record_batches() {
+    for (name, bytes) in [("all", all_types_log()), ("nested", nested_log())] {
+        let log = ULog::parse(&bytes).unwrap();
+        for options in [Options::default(), flat()] {
+            let dir = scratch(&format!("{name}-{}", options.flatten));
+            let export = write_parquet(&log, &dir, &options).unwrap();
+            assert_eq!(export.files.len(), 1);
+            assert!(export.skipped.is_empty());
+            let written = &export.files[0];
+            let topic = log.topic(&written.topic, written.multi_id).unwrap();
+            assert_eq!(written.path, dir.join(file_name(&topic)));
+            assert_eq!(written.rows, topic.len());
+            let ours = topic_record_batch(&topic, &options).unwrap();
+            let (schema, back) = read_back(&written.path);
+            // Types (u64 stays u64, lists stay fixed-size), values and metadata survive.
+            assert_eq!(schema, ours.schema());
+            assert_eq!(back.schema().fields(), ours.schema().fields());
+            for (a, b) in back.columns().iter().zip(ours.columns()) {
+                // NaN != NaN for `==`: compare the data bit for bit.
+                assert_eq!(a.to_data(), b.to_data());
+            }
+            let meta = std::fs::read_to_string(&export.metadata).unwrap();
+            assert!(meta.contains(&format!("\"name\": \"{}\"", written.topic)));
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
+}
+
+#[test]
+fn batches_split_rows_and_keep_them_all() {
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let topic = log.topic("vehicle_attitude", 0).unwrap();
+    let options = Options {
+        batch_rows: 7,
+        ..Options::default()
+    };
+    let batches: Vec<RecordBatch> = topic_record_batches(&topic, &options)
+        .unwrap()
+        .map(|b| b.unwrap())
+        .collect();
+    assert_eq!(batches.len(), topic.len().div_ceil(7));
+    assert!(batches.iter().all(|b| b.num_rows() <= 7));
+    let whole = topic_record_batch(&topic, &options).unwrap();
+    let mut row = 0;
+    for b in &batches {
+        assert_eq!(
+            b.column(1).to_data(),
+            whole.column(1).slice(row, b.num_rows()).to_data()
+        );
+        row += b.num_rows();
+    }
+    assert_eq!(row, topic.len());
+
+    // Written in batches of 7, read back whole.
+    let dir = scratch("batches");
+    let path = dir.join("att.parquet");
+    std::fs::create_dir_all(&dir).unwrap();
+    write_topic(&topic, &path, &options).unwrap();
+    let file = std::fs::File::open(&path).unwrap();
+    let back: Vec<RecordBatch> = ParquetRecordBatchReaderBuilder::try_new(file)
+        .unwrap()
+        .with_batch_size(1 << 20)
+        .build()
+        .unwrap()
+        .map(|b| b.unwrap())
+        .collect();
+    assert_eq!(back.len(), 1);
+    assert_eq!(back[0].column(1).to_data(), whole.column(1).to_data());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn topic_filter_checks_names_and_skips_what_cannot_be_exported() {
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let options = Options {
+        topics: Some(vec!["battery_status".into(), "esc_statsu".into()]),
+        ..Options::default()
+    };
+    let dir = scratch("filter");
+    let err = write_parquet(&log, &dir, &options).unwrap_err();
+    match err.kind() {
+        ErrorKind::TopicNotFound { name, suggestion } => {
+            assert_eq!(name, "esc_statsu");
+            assert_eq!(suggestion.as_deref(), Some("esc_status"));
+        }
+        k => panic!("{k:?}"),
+    }
+    assert!(
+        !dir.exists(),
+        "nothing is written before the names are checked"
+    );
+
+    let options = Options {
+        topics: Some(vec!["battery_status".into()]),
+        ..Options::default()
+    };
+    let export = write_parquet(&log, &dir, &options).unwrap();
+    let names: Vec<(String, u8)> = export
+        .files
+        .iter()
+        .map(|w| (w.topic.clone(), w.multi_id))
+        .collect();
+    assert_eq!(
+        names,
+        [("battery_status".into(), 0), ("battery_status".into(), 1)]
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    // A topic of padding only, and one whose nested type is undefined.
+    let mut b = LogBuilder::new(1, 0);
+    b.format("pad:uint8_t[4] _padding0;");
+    b.format("broken:uint64_t timestamp;missing m;");
+    b.format("ok:uint64_t timestamp;");
+    b.subscribe(0, 0, "pad");
+    b.subscribe(0, 1, "broken");
+    b.subscribe(0, 2, "ok");
+    b.data(0, &[0; 4]);
+    b.data(1, &[0; 8]);
+    b.data(2, &5u64.to_le_bytes());
+    let log = ULog::parse(b.bytes()).unwrap();
+    let dir = scratch("skipped");
+    let export = write_parquet(&log, &dir, &Options::default()).unwrap();
+    assert_eq!(export.files.len(), 1);
+    assert_eq!(export.files[0].topic, "ok");
+    let skipped: Vec<&str> = export.skipped.iter().map(|s| s.topic.as_str()).collect();
+    assert_eq!(skipped, ["broken", "pad"]);
+    assert!(matches!(
+        export.skipped[0].error.kind(),
+        ErrorKind::Layout(_)
+    ));
+    assert!(matches!(
+        export.skipped[1].error.kind(),
+        ErrorKind::Export(_)
+    ));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn metadata_holds_what_the_log_holds() {
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&metadata_json(&log)).unwrap();
+    assert_eq!(json["version"], 1);
+    assert_eq!(json["start_timestamp"], log.start_timestamp());
+    assert_eq!(json["last_timestamp"], log.last_timestamp());
+    assert_eq!(json["damaged"], false);
+    assert_eq!(json["info"]["sys_name"], "PX4");
+    assert_eq!(json["info"]["ver_sw_release"], 0x010e_03ff);
+    assert_eq!(json["info"]["time_ref_utc"], 0);
+    assert_eq!(
+        json["multi_info"]["boot_console"],
+        serde_json::json!([["line 1", "line 2"]])
+    );
+    assert_eq!(json["parameters"]["MAV_TYPE"], 2);
+    assert_eq!(json["parameters"]["MPC_XY_VEL_MAX"], 12.0);
+    let changed = json["changed_parameters"].as_array().unwrap();
+    assert_eq!(changed.len(), log.param_changes().len());
+    assert_eq!(changed[0]["name"], "MPC_XY_VEL_MAX");
+    assert_eq!(changed[0]["value"], 8.0);
+    assert_eq!(changed[0]["timestamp"], log.param_changes()[0].timestamp);
+    let defaults = json["default_parameters"].as_array().unwrap();
+    assert_eq!(defaults[1]["name"], "MAV_TYPE");
+    assert_eq!(defaults[1]["default_types"], 3);
+    assert_eq!(defaults[1]["value"], 1);
+    let messages = json["logged_messages"].as_array().unwrap();
+    assert_eq!(messages.len(), 3);
+    assert_eq!(messages[0]["text"], "[commander] Takeoff detected");
+    assert_eq!(messages[0]["level"], "INFO");
+    assert_eq!(messages[0]["tag"], serde_json::Value::Null);
+    assert_eq!(messages[1]["level"], "WARNING");
+    assert_eq!(messages[1]["tag"], 1);
+    assert_eq!(json["dropouts"][0]["duration_ms"], 12);
+    assert_eq!(json["findings"], serde_json::json!([]));
+    let topics = json["topics"].as_array().unwrap();
+    assert_eq!(topics.len(), 5);
+    assert_eq!(topics[3]["name"], "battery_status");
+    assert_eq!(topics[3]["multi_id"], 1);
+    assert_eq!(topics[3]["rows"], 20);
+}
+
+#[test]
+fn metadata_escapes_text_and_keeps_odd_values() {
+    let mut b = LogBuilder::new(1, 0);
+    b.info("char[6] quote", b"a\"b\\\n\0");
+    b.info("float nan", &f32::NAN.to_le_bytes());
+    b.info("uint64_t big", &u64::MAX.to_le_bytes());
+    b.info("int16_t[2] pair", &[0xff, 0xff, 2, 0]);
+    b.info("uint32_t short", &[1, 2]);
+    b.info("char[2] quote", b"zz"); // the last value of a repeated key wins
+    b.log(b'9', 5, "\u{e9}\x01");
+    let log = ULog::parse(b.bytes()).unwrap();
+    let text = metadata_json(&log);
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["info"]["quote"], "zz");
+    assert_eq!(json["info"]["nan"], serde_json::Value::Null);
+    assert_eq!(json["info"]["big"], u64::MAX);
+    assert_eq!(json["info"]["pair"], serde_json::json!([-1, 2]));
+    assert_eq!(json["info"]["short"], "0102");
+    let m = &json["logged_messages"][0];
+    assert_eq!(m["level"], serde_json::Value::Null);
+    assert_eq!(m["level_raw"], u64::from(b'9'));
+    // UTF-8 bytes c3 a9 are two characters, one per byte.
+    assert_eq!(m["text"], "\u{c3}\u{a9}\u{1}");
+
+    let mut b = LogBuilder::new(1, 0);
+    b.info("char[6] quote", b"a\"b\\\n\0");
+    let log = ULog::parse(b.bytes()).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&metadata_json(&log)).unwrap();
+    assert_eq!(json["info"]["quote"], "a\"b\\\n");
+}
