@@ -12,8 +12,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use ulog_core::format::LeafKind;
-use ulog_core::{Message, Str, StreamReader, ULog, Value};
+use ulog_core::{FieldReader, Message, StreamReader, ULog, Value};
 
 fn load() -> (String, Vec<u8>) {
     if let Some(path) = std::env::var_os("ULOG_BENCH_FILE") {
@@ -46,7 +45,7 @@ fn add(sum: &mut f64, v: Value<'_>) {
 /// per subscription.
 fn decode_stream(bytes: &[u8]) -> f64 {
     let mut reader = StreamReader::new(bytes);
-    let mut by_id: Vec<Option<Vec<(usize, ulog_core::format::BasicType, usize)>>> = Vec::new();
+    let mut by_id: Vec<Option<Vec<FieldReader>>> = Vec::new();
     let mut sum = 0.0;
     loop {
         let mut subscribed = None;
@@ -56,14 +55,10 @@ fn decode_stream(bytes: &[u8]) -> f64 {
             };
             match m.message {
                 Message::Data { msg_id, payload } => {
-                    if let Some(Some(leaves)) = by_id.get(msg_id as usize) {
-                        for &(offset, ty, strlen) in leaves {
-                            if strlen > 0 {
-                                if let Some(b) = payload.get(offset..offset + strlen) {
-                                    add(&mut sum, Value::Str(Str(b)));
-                                }
-                            } else if let Some(b) = payload.get(offset..offset + ty.size()) {
-                                add(&mut sum, Value::read_scalar(ty, b));
+                    if let Some(Some(columns)) = by_id.get(msg_id as usize) {
+                        for c in columns {
+                            if let Some(v) = c.read(payload) {
+                                add(&mut sum, v);
                             }
                         }
                     }
@@ -73,26 +68,14 @@ fn decode_stream(bytes: &[u8]) -> f64 {
             }
         }
         if let Some(id) = subscribed {
-            let leaves = reader
+            let columns = reader
                 .state()
                 .subscription(id)
-                .and_then(|(_, _, l)| l.cloned())
-                .map(|l| {
-                    l.columns()
-                        .map(|c| {
-                            let strlen = if c.kind == LeafKind::String {
-                                c.count
-                            } else {
-                                0
-                            };
-                            (c.offset, c.ty, strlen)
-                        })
-                        .collect()
-                });
+                .and_then(|(_, _, l)| l.map(|l| FieldReader::columns_of(l)));
             if by_id.len() <= id as usize {
                 by_id.resize(id as usize + 1, None);
             }
-            by_id[id as usize] = leaves;
+            by_id[id as usize] = columns;
         }
     }
     sum

@@ -19,9 +19,9 @@ use std::io::BufWriter;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use ulog_core::format::{BasicType, Layout, LeafKind};
+use ulog_core::format::Layout;
 use ulog_core::typed::ULogMessage;
-use ulog_core::{LogWriter, MappedFile, Message, Str, StreamReader, Value, WriterOptions};
+use ulog_core::{FieldReader, LogWriter, MappedFile, Message, StreamReader, Value, WriterOptions};
 
 type Failure = Box<dyn std::error::Error>;
 
@@ -47,27 +47,10 @@ fn framing(path: &str) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A subscription's leaves, resolved once: (offset, type, string length or 0).
+/// A subscription's column readers, resolved once.
 struct Resolved {
     layout: Arc<Layout>,
-    leaves: Box<[(usize, BasicType, usize)]>,
-}
-
-fn resolve(layout: &Arc<Layout>) -> Resolved {
-    Resolved {
-        layout: layout.clone(),
-        leaves: layout
-            .columns()
-            .map(|l| {
-                let strlen = if l.kind == LeafKind::String {
-                    l.count
-                } else {
-                    0
-                };
-                (l.offset, l.ty, strlen)
-            })
-            .collect(),
-    }
+    columns: Vec<FieldReader>,
 }
 
 fn decode_stream(path: &str) -> Result<(), Failure> {
@@ -89,13 +72,9 @@ fn decode_stream(path: &str) -> Result<(), Failure> {
                 Message::Data { msg_id, payload } => {
                     if let Some(Some(r)) = by_id.get(msg_id as usize) {
                         data += 1;
-                        for &(offset, ty, strlen) in r.leaves.iter() {
-                            if strlen > 0 {
-                                if let Some(b) = payload.get(offset..offset + strlen) {
-                                    add(&mut sum, Value::Str(Str(b)));
-                                }
-                            } else if let Some(b) = payload.get(offset..offset + ty.size()) {
-                                add(&mut sum, Value::read_scalar(ty, b));
+                        for c in &r.columns {
+                            if let Some(v) = c.read(payload) {
+                                add(&mut sum, v);
                             }
                         }
                     }
@@ -119,10 +98,13 @@ fn decode_stream(path: &str) -> Result<(), Failure> {
                 by_id.resize_with(i + 1, || None);
             }
             by_id[i] = match layout {
-                // The same layout again (a re-subscription): keep the resolved leaves.
+                // The same layout again (a re-subscription): keep the resolved readers.
                 Some(l) => match by_id[i].take() {
                     Some(r) if Arc::ptr_eq(&r.layout, &l) => Some(r),
-                    _ => Some(resolve(&l)),
+                    _ => Some(Resolved {
+                        columns: FieldReader::columns_of(&l),
+                        layout: l,
+                    }),
                 },
                 None => None,
             };

@@ -199,8 +199,27 @@ impl<'l, 'a> Topic<'l, 'a> {
     /// Readers for every column (leaf field, padding left out) in pyulog's order:
     /// arrays element by element, `char[N]` as one string.
     pub fn columns(&self) -> Result<Vec<FieldReader>> {
-        let layout = self.layout()?;
-        Ok(layout
+        Ok(FieldReader::columns_of(self.layout()?))
+    }
+}
+
+impl FieldReader {
+    /// Readers for every column of `layout`, as [`Topic::columns`] gives them: for
+    /// payloads met without a parsed log (the stream reader's subscriptions), resolved
+    /// once per subscription.
+    ///
+    /// ```
+    /// let layout = ulog_core::format::Resolver::default()
+    ///     .resolve("t", &[ulog_core::format::Format::parse("t:uint64_t timestamp;float[2] v;").unwrap()][..])
+    ///     .unwrap();
+    /// let paths: Vec<String> = ulog_core::FieldReader::columns_of(&layout)
+    ///     .iter()
+    ///     .map(|c| c.path().to_owned())
+    ///     .collect();
+    /// assert_eq!(paths, ["timestamp", "v[0]", "v[1]"]);
+    /// ```
+    pub fn columns_of(layout: &Layout) -> Vec<FieldReader> {
+        layout
             .columns()
             .map(|leaf| FieldReader {
                 path: leaf.path.clone(),
@@ -212,7 +231,7 @@ impl<'l, 'a> Topic<'l, 'a> {
                     FieldShape::Scalar
                 },
             })
-            .collect())
+            .collect()
     }
 }
 
