@@ -116,7 +116,7 @@ pub fn examine(log: &ULog<'_>) -> Vec<Problem> {
             FindingKind::AppendedData | FindingKind::LongFlagBits(_) => Severity::Note,
             _ => Severity::Warning,
         };
-        let mut p = Problem::new(severity, kind_name(f), f.to_string()).at(f.offset);
+        let mut p = Problem::new(severity, kind_name(f), f.what()).at(f.offset);
         p.len = Some(f.len);
         out.push(p);
     }
@@ -251,34 +251,28 @@ fn timestamp_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
                 first_jump.get_or_insert((o1, t0, t1));
             }
         }
-        let topic_id = (topic.name().to_owned(), topic.multi_id());
-        if let Some((o, t0, t1)) = first_back {
-            let mut p = Problem::new(
-                Severity::Warning,
-                "timestamp_backwards",
-                format!(
-                    "{}({}): timestamps go backwards {back} time(s), first from {t0} to {t1} us",
-                    topic_id.0, topic_id.1
-                ),
-            )
-            .at(o);
-            p.topic = Some(topic_id.clone());
+        let id = format!("{}({})", topic.name(), topic.multi_id());
+        let mut warn = |kind, offset, text: String| {
+            let mut p = Problem::new(Severity::Warning, kind, format!("{id}: {text}")).at(offset);
+            p.topic = Some((topic.name().to_owned(), topic.multi_id()));
             out.push(p);
+        };
+        if let Some((o, t0, t1)) = first_back {
+            warn(
+                "timestamp_backwards",
+                o,
+                format!("timestamps go backwards {back} time(s), first from {t0} to {t1} us"),
+            );
         }
         if let Some((o, t0, t1)) = first_jump {
-            let mut p = Problem::new(
-                Severity::Warning,
+            warn(
                 "timestamp_jump",
+                o,
                 format!(
-                    "{}({}): timestamps jump forward {jumps} time(s), first by {:.1} s (from {t0} to {t1} us; usual interval {median} us)",
-                    topic_id.0,
-                    topic_id.1,
+                    "timestamps jump forward {jumps} time(s), first by {:.1} s (from {t0} to {t1} us; usual interval {median} us)",
                     (t1 - t0) as f64 / 1e6
                 ),
-            )
-            .at(o);
-            p.topic = Some(topic_id);
-            out.push(p);
+            );
         }
     }
 }
@@ -394,12 +388,7 @@ fn write_text(out: &mut impl Write, r: &Report, brief: bool, all: bool) -> io::R
             continue;
         }
         match p.offset {
-            Some(o) => {
-                // Findings name their offset last; it is shown first here.
-                let suffix = format!(" at byte {o}");
-                let text = p.text.strip_suffix(&suffix).unwrap_or(&p.text);
-                writeln!(out, "  {:<7} at byte {o}: {text}", p.severity.name())?;
-            }
+            Some(o) => writeln!(out, "  {:<7} at byte {o}: {}", p.severity.name(), p.text)?,
             None => writeln!(out, "  {:<7} {}", p.severity.name(), p.text)?,
         }
     }

@@ -5,7 +5,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use ulog_core::format::BasicType;
-use ulog_core::{FieldShape, Topic, ULog};
+use ulog_core::{FieldShape, Topic};
 
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
@@ -56,12 +56,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
     let mut topics: Vec<Topic<'_, '_>> = log.topics().filter(|t| !t.is_empty()).collect();
     if let Some(list) = &args.messages {
-        let wanted: Vec<&str> = list.split(',').filter(|s| !s.is_empty()).collect();
-        for w in &wanted {
-            if log.topic_instances(w).is_empty() {
-                return Err(Failure::unknown_name(&name, unknown_topic(&log, w)));
-            }
-        }
+        let wanted = input::topic_list(&name, &log, list)?;
         topics.retain(|t| wanted.contains(&t.name()));
     }
     topics.sort_by(|a, b| (a.name(), a.multi_id()).cmp(&(b.name(), b.multi_id())));
@@ -112,13 +107,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         progress.inc(topic.len() as u64);
     }
     out.flush().map_err(stdout_err)
-}
-
-fn unknown_topic(log: &ULog<'_>, wanted: &str) -> String {
-    match log.topic(wanted, 0) {
-        Err(e) => input::error_text(&e),
-        Ok(_) => format!("no topic `{wanted}` in the log"),
-    }
 }
 
 /// The path prefix of the output files: FILE without `.ulg` (any case), in DIR when

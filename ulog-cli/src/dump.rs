@@ -65,21 +65,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = input::open(&args.file)?;
     let bytes = file.bytes();
     let log = input::parse(&name, bytes)?;
-    let wanted: Option<Vec<&str>> = args
-        .messages
-        .as_deref()
-        .map(|l| l.split(',').filter(|s| !s.is_empty()).collect());
-    if let Some(w) = &wanted {
-        for t in w {
-            if log.topic_instances(t).is_empty() {
-                let text = match log.topic(t, 0) {
-                    Err(e) => input::error_text(&e),
-                    Ok(_) => format!("no topic `{t}` in the log"),
-                };
-                return Err(Failure::unknown_name(&name, text));
-            }
-        }
-    }
+    let wanted = match args.messages.as_deref() {
+        Some(list) => Some(input::topic_list(&name, &log, list)?),
+        None => None,
+    };
     // Subscriptions the reader kept, by the offset of their `A` message.
     let by_offset: HashMap<u64, usize> = log
         .topics()
@@ -141,10 +130,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 fn write_finding(out: &mut impl Write, f: &Finding, json: bool) -> io::Result<()> {
     if json {
-        let j = json!({"offset": f.offset, "finding": kind_name(f), "len": f.len, "text": f.to_string()});
+        let j =
+            json!({"offset": f.offset, "finding": kind_name(f), "len": f.len, "text": f.what()});
         writeln!(out, "{j}")
     } else {
-        writeln!(out, "{:>10}  !  {f}", f.offset)
+        writeln!(out, "{:>10}  !  {}", f.offset, f.what())
     }
 }
 

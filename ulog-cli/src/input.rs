@@ -35,3 +35,19 @@ pub fn error_text(e: &Error) -> String {
         kind => format!("{kind} (at byte {})", e.offset),
     }
 }
+
+/// The topic names of a `-m a,b,c` option, each checked to be in `log` (named `name`):
+/// an unknown one is a failure that suggests the closest topic.
+pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&'s str>, Failure> {
+    let wanted: Vec<&str> = list.split(',').filter(|s| !s.is_empty()).collect();
+    for w in &wanted {
+        if log.topic_instances(w).is_empty() {
+            let text = match log.topic(w, 0) {
+                Err(e) => error_text(&e),
+                Ok(_) => format!("no topic `{w}` in the log"),
+            };
+            return Err(Failure::unknown_name(name, text));
+        }
+    }
+    Ok(wanted)
+}

@@ -124,8 +124,27 @@ fn type_char(t: u8) -> String {
     }
 }
 
-impl fmt::Display for Finding {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl Finding {
+    /// What was found, without the `at byte N` that its `Display` ends with: for output
+    /// that shows the offset in a column of its own.
+    ///
+    /// ```
+    /// let bytes = [&ulog_core::testing::sample_log()[..], &[9, 0, b'D', 1]].concat();
+    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// let cut = &log.findings()[0];
+    /// assert_eq!(format!("{cut}"), format!("{} at byte {}", cut.what(), cut.offset));
+    /// ```
+    pub fn what(&self) -> String {
+        struct What<'a>(&'a Finding);
+        impl fmt::Display for What<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                self.0.describe(f)
+            }
+        }
+        What(self).to_string()
+    }
+
+    fn describe(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let end = self.offset + self.len;
         match &self.kind {
             FindingKind::NewerVersion(v) => write!(f, "file version {v} is newer than 1"),
@@ -187,7 +206,13 @@ impl fmt::Display for Finding {
             FindingKind::UnknownFormat(n) => write!(f, "subscription to undefined format `{n}`"),
             FindingKind::InvalidKey => write!(f, "key that does not parse as `type name`"),
             FindingKind::NoTimestamp(n) => write!(f, "topic `{n}` has no timestamp field"),
-        }?;
+        }
+    }
+}
+
+impl fmt::Display for Finding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.describe(f)?;
         write!(f, " at byte {}", self.offset)
     }
 }
