@@ -651,18 +651,19 @@ impl Framer {
         Some((depth + 1, false))
     }
 
-    /// Whether one message at `q` is plausible. `strict` adds content checks used when
-    /// looking for a place to resynchronise. In the data section the content checks of
-    /// messages other than flag bits always apply: there, a stretch of garbage whose
-    /// first bytes happen to form a header of a known type must not swallow the real
-    /// messages after it (ULog has no checksums; content is all there is to judge by).
+    /// Whether one message at `q` is plausible. `resync`: looking for a place to
+    /// resynchronise, where flag bits never fit. The content checks (a logged string
+    /// looks like text, a key has its type, …) apply when resynchronising and in the
+    /// data section: there, a stretch of garbage whose first bytes happen to form a
+    /// header of a known type must not swallow the real messages after it (ULog has no
+    /// checksums; content is all there is to judge by).
     fn check(
         &self,
         win: &[u8],
         base: u64,
         q: u64,
         eof: bool,
-        strict: bool,
+        resync: bool,
         new_ids: &[u16],
     ) -> Check {
         if q < base {
@@ -697,8 +698,7 @@ impl Framer {
         }
         let p = &win[rel + 3..rel + 3 + size as usize];
         let bad = |what| Check::Bad(Bad::Malformed(t, what));
-        let strict_b = strict;
-        let strict = strict || !self.in_definitions;
+        let content = resync || !self.in_definitions;
         match t {
             b'D' => {
                 let id = u16_at(p, 0);
@@ -719,7 +719,7 @@ impl Framer {
                 if 1 + p[0] as usize > p.len() || p[0] == 0 {
                     return bad("key longer than the message");
                 }
-                if strict && !p[1..1 + p[0] as usize].contains(&b' ') {
+                if content && !p[1..1 + p[0] as usize].contains(&b' ') {
                     return Check::Bad(Bad::Implausible);
                 }
             }
@@ -727,26 +727,27 @@ impl Framer {
                 if 2 + p[1] as usize > p.len() || p[1] == 0 {
                     return bad("key longer than the message");
                 }
-                if strict && (!p[2..2 + p[1] as usize].contains(&b' ') || (t == b'M' && p[0] > 1)) {
+                if content && (!p[2..2 + p[1] as usize].contains(&b' ') || (t == b'M' && p[0] > 1))
+                {
                     return Check::Bad(Bad::Implausible);
                 }
             }
-            b'B' if strict_b || q != HEADER_LEN as u64 => return Check::Bad(Bad::Implausible),
+            b'B' if resync || q != HEADER_LEN as u64 => return Check::Bad(Bad::Implausible),
             // Content checks look at a bounded prefix, so that scanning a corrupt
             // stretch stays linear with a small constant.
-            b'A' if strict && !p[3..].iter().take(STRICT_PREFIX).all(|&b| is_name_byte(b)) => {
+            b'A' if content && !p[3..].iter().take(STRICT_PREFIX).all(|&b| is_name_byte(b)) => {
                 return Check::Bad(Bad::Implausible)
             }
-            b'L' | b'C' if strict && !(valid_level(p[0]) && plausible_text(p, t)) => {
+            b'L' | b'C' if content && !(valid_level(p[0]) && plausible_text(p, t)) => {
                 return Check::Bad(Bad::Implausible)
             }
-            b'F' if strict
+            b'F' if content
                 && !(is_name_byte(p[0]) && p[..p.len().min(STRICT_PREFIX)].contains(&b':')) =>
             {
                 return Check::Bad(Bad::Implausible)
             }
-            b'R' | b'O' if strict && size != 2 => return Check::Bad(Bad::Implausible),
-            b'S' if strict && self.header.is_some_and(|h| h.version >= 1) && p != SYNC_MAGIC => {
+            b'R' | b'O' if content && size != 2 => return Check::Bad(Bad::Implausible),
+            b'S' if content && self.header.is_some_and(|h| h.version >= 1) && p != SYNC_MAGIC => {
                 return Check::Bad(Bad::Implausible)
             }
             _ => {}
