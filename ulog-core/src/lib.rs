@@ -45,8 +45,9 @@ mod value;
 pub mod write;
 
 pub use access::columns::{Column, ColumnData};
+pub use access::load::{load_columns, load_file_columns, LoadedColumns, TopicColumns};
 pub use access::topic::{FieldReader, FieldShape, Topic};
-pub use access::typed::{Order, TypedRows, Walk};
+pub use access::typed::{scan_topics, Order, TypedRows, Walk};
 pub use error::{Error, ErrorKind, Result};
 pub use finding::{Corruption, Finding, FindingKind};
 #[cfg(feature = "mmap")]
@@ -58,6 +59,7 @@ pub use read::log::{
     UnknownMessage,
 };
 pub use read::message::{KeyValue, LogLevel, LogMessage, Message};
+pub use read::scan::{scan, scan_reader, ScanRecord, ScanSummary, ScanTopic};
 pub use read::stream::{Incremental, Status, StreamReader};
 pub use read::timestamp::{TimestampField, Unwrapper};
 #[cfg(feature = "derive")]

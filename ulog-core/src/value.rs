@@ -152,6 +152,7 @@ macro_rules! le {
 impl<'a> Value<'a> {
     /// Reads one value of `ty` from the first bytes of `b` (which must hold at least
     /// `ty.size()` bytes).
+    #[inline]
     pub fn read_scalar(ty: BasicType, b: &'a [u8]) -> Value<'a> {
         match ty {
             BasicType::Int8 => Value::I8(b[0] as i8),
@@ -182,6 +183,7 @@ impl<'a> Value<'a> {
     }
 
     /// The value as `f64` (numbers and booleans; `None` for strings and arrays).
+    #[inline]
     pub fn as_f64(&self) -> Option<f64> {
         Some(match *self {
             Value::I8(v) => v as f64,

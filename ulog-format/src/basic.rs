@@ -49,6 +49,7 @@ impl BasicType {
     ];
 
     /// Size in bytes of one value.
+    #[inline]
     pub const fn size(self) -> usize {
         match self {
             BasicType::Int8 | BasicType::UInt8 | BasicType::Bool | BasicType::Char => 1,

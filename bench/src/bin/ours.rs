@@ -2,12 +2,16 @@
 //!
 //! ```text
 //! ours framing FILE               ULog::parse on a memory map (indexes every message)
-//! ours decode-stream FILE         StreamReader over the file in 64 KiB chunks; every
-//!                                 field of every data message read as a typed value
-//! ours decode-mmap FILE           the same over ULog::parse + Topic::columns() readers
+//! ours decode-stream FILE         scan_reader over the file (read in 256 KiB chunks);
+//!                                 every field of every data message read as a typed
+//!                                 value (FieldReader::columns_of per subscription)
+//! ours decode-mmap FILE           the same with scan over a memory map
 //! ours typed FILE                 sensor_combined and vehicle_attitude through derived
-//!                                 structs (ULog::read::<T>)
-//! ours columns FILE [THREADS]     every topic into typed columns (load_all_columns)
+//!                                 structs, one pass over a memory map (scan_topics)
+//! ours typed-indexed FILE         the same through ULog::parse + ULog::read::<T>
+//! ours columns FILE [THREADS]     every topic into typed columns, read from the file in
+//!                                 one pass per thread (load_file_columns)
+//! ours columns-indexed FILE THREADS  the same through ULog::parse + load_all_columns
 //! ours write OUT MESSAGES         MESSAGES sensor_combined rows through LogWriter
 //! ```
 //!
@@ -17,11 +21,9 @@
 use std::fs::File;
 use std::io::BufWriter;
 use std::process::ExitCode;
-use std::sync::Arc;
 
-use ulog_core::format::Layout;
-use ulog_core::typed::ULogMessage;
-use ulog_core::{FieldReader, LogWriter, MappedFile, Message, StreamReader, Value, WriterOptions};
+use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+use ulog_core::{FieldReader, FieldShape, LogWriter, MappedFile, ScanRecord, Value, WriterOptions};
 
 type Failure = Box<dyn std::error::Error>;
 
@@ -47,92 +49,55 @@ fn framing(path: &str) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A subscription's column readers, resolved once.
-struct Resolved {
-    layout: Arc<Layout>,
-    columns: Vec<FieldReader>,
+/// Column readers per subscription index, resolved at the subscription's first
+/// record (`None` inside: no layout).
+struct Readers(Vec<Option<Option<Vec<FieldReader>>>>);
+
+impl Readers {
+    /// Adds every field of a data message to the checksum.
+    #[inline]
+    fn add_all(&mut self, sum: &mut f64, r: &ScanRecord<'_, '_>) {
+        if r.subscription >= self.0.len() {
+            self.0.resize_with(r.subscription + 1, || None);
+        }
+        let columns = self.0[r.subscription]
+            .get_or_insert_with(|| r.layout.map(|l| FieldReader::columns_of(l)));
+        let mut message = 0.0;
+        for c in columns.iter().flatten() {
+            // Numbers as `f64` in one step; strings (and anything else) as a `Value`.
+            if c.shape() == FieldShape::Scalar {
+                if let Some(v) = c.read_f64(r.payload) {
+                    message += v;
+                }
+            } else if let Some(v) = c.read(r.payload) {
+                add(&mut message, v);
+            }
+        }
+        *sum += message;
+    }
 }
 
 fn decode_stream(path: &str) -> Result<(), Failure> {
     let file = File::open(path)?;
-    let mut reader = StreamReader::with_chunk_size(file, 64 * 1024);
-    // Indexed by msg_id; filled when a subscription's `A` message passes.
-    let mut by_id: Vec<Option<Resolved>> = Vec::new();
+    let mut readers = Readers(Vec::new());
     let mut sum = 0.0f64;
-    let mut messages = 0u64;
-    let mut data = 0u64;
-    loop {
-        let mut subscribed = None;
-        {
-            let Some(m) = reader.next_message()? else {
-                break;
-            };
-            messages += 1;
-            match m.message {
-                Message::Data { msg_id, payload } => {
-                    if let Some(Some(r)) = by_id.get(msg_id as usize) {
-                        data += 1;
-                        for c in &r.columns {
-                            if let Some(v) = c.read(payload) {
-                                add(&mut sum, v);
-                            }
-                        }
-                    }
-                }
-                Message::Subscribe { msg_id, .. } => subscribed = Some(msg_id),
-                Message::Unsubscribe { msg_id } => {
-                    if let Some(slot) = by_id.get_mut(msg_id as usize) {
-                        *slot = None;
-                    }
-                }
-                _ => {}
-            }
-        }
-        if let Some(msg_id) = subscribed {
-            let layout = reader
-                .state()
-                .subscription(msg_id)
-                .and_then(|(_, _, layout)| layout.cloned());
-            let i = msg_id as usize;
-            if by_id.len() <= i {
-                by_id.resize_with(i + 1, || None);
-            }
-            by_id[i] = match layout {
-                // The same layout again (a re-subscription): keep the resolved readers.
-                Some(l) => match by_id[i].take() {
-                    Some(r) if Arc::ptr_eq(&r.layout, &l) => Some(r),
-                    _ => Some(Resolved {
-                        columns: FieldReader::columns_of(&l),
-                        layout: l,
-                    }),
-                },
-                None => None,
-            };
-        }
-    }
-    println!("messages={messages} data={data} check={sum}");
+    let summary = ulog_core::scan_reader(file, |r| readers.add_all(&mut sum, &r))?;
+    println!(
+        "messages={} data={} check={sum}",
+        summary.messages, summary.data_messages
+    );
     Ok(())
 }
 
 fn decode_mmap(path: &str) -> Result<(), Failure> {
     let file = MappedFile::open(path)?;
-    let log = file.parse()?;
+    let mut readers = Readers(Vec::new());
     let mut sum = 0.0f64;
-    let mut data = 0u64;
-    for topic in log.topics() {
-        let Ok(columns) = topic.columns() else {
-            continue;
-        };
-        for payload in topic.payloads() {
-            data += 1;
-            for c in &columns {
-                if let Some(v) = c.read(payload) {
-                    add(&mut sum, v);
-                }
-            }
-        }
-    }
-    println!("messages={} data={data} check={sum}", log.message_count());
+    let summary = ulog_core::scan(file.bytes(), |r| readers.add_all(&mut sum, &r))?;
+    println!(
+        "messages={} data={} check={sum}",
+        summary.messages, summary.data_messages
+    );
     Ok(())
 }
 
@@ -152,7 +117,47 @@ struct VehicleAttitude {
     q: [f32; 4],
 }
 
+/// The two topics of the typed workload.
+#[derive(ULogTopics)]
+enum Topics {
+    Sensors(SensorCombined),
+    Attitude(VehicleAttitude),
+}
+
 fn typed(path: &str) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let mut sum = 0.0f64;
+    let mut rows = 0u64;
+    let mut failed: Option<ulog_core::Error> = None;
+    ulog_core::scan_topics::<Topics, _>(file.bytes(), |record| match record {
+        Ok(TopicRecord::Message { message, .. }) => {
+            rows += 1;
+            match message {
+                Topics::Sensors(r) => {
+                    sum += r.timestamp as f64;
+                    for v in r.gyro_rad.iter().chain(&r.accelerometer_m_s2) {
+                        sum += f64::from(*v);
+                    }
+                }
+                Topics::Attitude(r) => {
+                    sum += r.timestamp as f64;
+                    for v in &r.q {
+                        sum += f64::from(*v);
+                    }
+                }
+            }
+        }
+        Ok(TopicRecord::Raw { .. }) => {}
+        Err(e) => failed = failed.take().or(Some(e)),
+    })?;
+    if let Some(e) = failed {
+        return Err(e.into());
+    }
+    println!("messages={rows} check={sum}");
+    Ok(())
+}
+
+fn typed_indexed(path: &str) -> Result<(), Failure> {
     let file = MappedFile::open(path)?;
     let log = file.parse()?;
     let mut sum = 0.0f64;
@@ -190,6 +195,24 @@ fn typed(path: &str) -> Result<(), Failure> {
 }
 
 fn columns(path: &str, threads: usize) -> Result<(), Failure> {
+    let loaded = ulog_core::load_file_columns(path, threads)?;
+    let mut values = 0usize;
+    let mut failed = 0usize;
+    for t in &loaded.topics {
+        match &t.columns {
+            Ok(columns) => values += columns.iter().map(|c| c.data.len()).sum::<usize>(),
+            Err(_) => failed += 1,
+        }
+    }
+    println!(
+        "messages={} values={values} topics={} failed_topics={failed}",
+        loaded.summary.messages,
+        loaded.topics.len()
+    );
+    Ok(())
+}
+
+fn columns_indexed(path: &str, threads: usize) -> Result<(), Failure> {
     let file = MappedFile::open(path)?;
     let log = file.parse()?;
     let tables = log.load_all_columns(threads);
@@ -254,7 +277,7 @@ fn write(out: &str, messages: u64) -> Result<(), Failure> {
     Ok(())
 }
 
-const USAGE: &str = "usage: ours (framing|decode-stream|decode-mmap|typed) FILE | ours columns FILE [THREADS] | ours write OUT MESSAGES";
+const USAGE: &str = "usage: ours (framing|decode-stream|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -264,7 +287,12 @@ fn main() -> ExitCode {
         ["decode-stream", f] => decode_stream(f),
         ["decode-mmap", f] => decode_mmap(f),
         ["typed", f] => typed(f),
+        ["typed-indexed", f] => typed_indexed(f),
         ["columns", f] => columns(f, 1),
+        ["columns-indexed", f, n] => match n.parse() {
+            Ok(n) => columns_indexed(f, n),
+            Err(e) => Err(format!("THREADS `{n}`: {e}").into()),
+        },
         ["columns", f, n] => match n.parse() {
             Ok(n) => columns(f, n),
             Err(e) => Err(format!("THREADS `{n}`: {e}").into()),

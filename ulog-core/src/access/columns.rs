@@ -98,6 +98,28 @@ impl ColumnData {
         }
     }
 
+    /// Appends the values of `more` (a column of the same type; another type is left
+    /// out, which [`Table`] never asks for).
+    fn append(&mut self, more: ColumnData) {
+        match (self, more) {
+            (ColumnData::I8(a), ColumnData::I8(b)) => a.extend(b),
+            (ColumnData::U8(a), ColumnData::U8(b)) | (ColumnData::Char(a), ColumnData::Char(b)) => {
+                a.extend(b)
+            }
+            (ColumnData::I16(a), ColumnData::I16(b)) => a.extend(b),
+            (ColumnData::U16(a), ColumnData::U16(b)) => a.extend(b),
+            (ColumnData::I32(a), ColumnData::I32(b)) => a.extend(b),
+            (ColumnData::U32(a), ColumnData::U32(b)) => a.extend(b),
+            (ColumnData::I64(a), ColumnData::I64(b)) => a.extend(b),
+            (ColumnData::U64(a), ColumnData::U64(b)) => a.extend(b),
+            (ColumnData::F32(a), ColumnData::F32(b)) => a.extend(b),
+            (ColumnData::F64(a), ColumnData::F64(b)) => a.extend(b),
+            (ColumnData::Bool(a), ColumnData::Bool(b)) => a.extend(b),
+            (ColumnData::Str { bytes: a, .. }, ColumnData::Str { bytes: b, .. }) => a.extend(b),
+            _ => debug_assert!(false, "columns of different types"),
+        }
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         match self {
@@ -170,43 +192,77 @@ impl Topic<'_, '_> {
     /// # Ok::<(), ulog_core::Error>(())
     /// ```
     pub fn load_columns(&self) -> Result<Vec<Column>> {
-        let layout = self.layout()?;
-        let rows = self.len();
+        let mut table = Table::new(self.layout()?, self.len());
+        for p in self.payloads() {
+            table.push(p);
+        }
+        Ok(table.finish())
+    }
+}
+
+/// The columns of one topic while they are filled, one payload at a time.
+pub(crate) struct Table {
+    paths: Vec<String>,
+    data: Vec<ColumnData>,
+    offsets: Vec<usize>,
+    /// Every column lies within this many bytes; framing accepts only payloads of the
+    /// full size or the size without trailing padding, which both hold them. A
+    /// shorter payload (never framed, but cheap to survive) reads as zero-filled.
+    needed: usize,
+    scratch: Vec<u8>,
+}
+
+impl Table {
+    /// Empty columns for `layout`, with room for `rows` rows.
+    pub(crate) fn new(layout: &ulog_format::Layout, rows: usize) -> Table {
         let leaves: Vec<_> = layout.columns().collect();
-        let mut data: Vec<ColumnData> = leaves
-            .iter()
-            .map(|l| ColumnData::with_capacity(l.ty, l.kind, l.count, rows))
-            .collect();
-        let offsets: Vec<usize> = leaves.iter().map(|l| l.offset).collect();
-        // Every column lies within this many bytes; framing accepts only payloads of the
-        // full size or the size without trailing padding, which both hold them. A
-        // shorter payload (never framed, but cheap to survive) reads as zero-filled.
         let needed = leaves
             .iter()
             .map(|l| l.offset + l.count * l.ty.size())
             .max()
             .unwrap_or(0);
-        let mut scratch = vec![0u8; needed];
-        for p in self.payloads() {
-            let p = if p.len() >= needed {
-                p
-            } else {
-                scratch.fill(0);
-                scratch[..p.len()].copy_from_slice(p);
-                &scratch[..]
-            };
-            for (column, &offset) in data.iter_mut().zip(&offsets) {
-                column.push_from(p, offset);
-            }
+        Table {
+            data: leaves
+                .iter()
+                .map(|l| ColumnData::with_capacity(l.ty, l.kind, l.count, rows))
+                .collect(),
+            offsets: leaves.iter().map(|l| l.offset).collect(),
+            paths: leaves.into_iter().map(|l| l.path.clone()).collect(),
+            needed,
+            scratch: Vec::new(),
         }
-        Ok(leaves
-            .iter()
-            .zip(data)
-            .map(|(l, data)| Column {
-                path: l.path.clone(),
-                data,
-            })
-            .collect())
+    }
+
+    /// Appends the row of one payload.
+    #[inline]
+    pub(crate) fn push(&mut self, p: &[u8]) {
+        let p = if p.len() >= self.needed {
+            p
+        } else {
+            self.scratch.clear();
+            self.scratch.resize(self.needed, 0);
+            self.scratch[..p.len()].copy_from_slice(p);
+            &self.scratch[..]
+        };
+        for (column, &offset) in self.data.iter_mut().zip(&self.offsets) {
+            column.push_from(p, offset);
+        }
+    }
+
+    /// Appends the rows of `later` (a table of the same layout).
+    pub(crate) fn append(&mut self, later: Table) {
+        for (column, more) in self.data.iter_mut().zip(later.data) {
+            column.append(more);
+        }
+    }
+
+    /// The columns, named.
+    pub(crate) fn finish(self) -> Vec<Column> {
+        self.paths
+            .into_iter()
+            .zip(self.data)
+            .map(|(path, data)| Column { path, data })
+            .collect()
     }
 }
 

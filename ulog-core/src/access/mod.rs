@@ -1,4 +1,5 @@
 //! Access to a parsed log: topics, fields by path, typed values, bindings.
 pub mod columns;
+pub mod load;
 pub mod topic;
 pub mod typed;

@@ -61,6 +61,7 @@ impl FieldReader {
         self.shape
     }
 
+    #[inline]
     fn size(&self) -> usize {
         match self.shape {
             FieldShape::Scalar => self.ty.size(),
@@ -70,6 +71,7 @@ impl FieldReader {
 
     /// The field's value in `payload`; `None` if the payload is too short (a field in
     /// omitted trailing padding).
+    #[inline]
     pub fn read<'a>(&self, payload: &'a [u8]) -> Option<Value<'a>> {
         let b = payload.get(self.offset..self.offset + self.size())?;
         Some(match self.shape {
@@ -80,8 +82,13 @@ impl FieldReader {
     }
 
     /// The field as `f64` (numbers and booleans).
+    #[inline]
     pub fn read_f64(&self, payload: &[u8]) -> Option<f64> {
-        self.read(payload).and_then(|v| v.as_f64())
+        if self.shape != FieldShape::Scalar {
+            return None;
+        }
+        let b = payload.get(self.offset..self.offset + self.ty.size())?;
+        Value::read_scalar(self.ty, b).as_f64()
     }
 }
 

@@ -9,6 +9,7 @@ use std::collections::BinaryHeap;
 use crate::access::topic::Topic;
 use crate::error::{Error, ErrorKind, Result};
 use crate::read::log::ULog;
+use crate::read::scan::{scan, ScanRecord, ScanSummary};
 use crate::typed::{Plan, Subscription, TopicDispatcher, TopicRecord, ULogMessage, ULogTopics};
 
 /// The rows of one topic instance decoded into `T` (see [`Topic::decode`]).
@@ -255,4 +256,92 @@ impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
             Some(Err(e)) => Some(Err(Error::new(ErrorKind::Decode(e), c.offset))),
         }
     }
+}
+
+/// One pass over a whole file (a buffer or a memory map) with a [`ULogTopics`] enum,
+/// in file order, keeping no index: [`ULog::walk`] in [`Order::File`] without the
+/// parse, for reading each message once. The topics the enum names come decoded
+/// (plans made once per subscription), the others raw. A subscription whose format
+/// does not fit its variant yields one error (every difference) before its first
+/// record, which then comes raw like the rest.
+///
+/// ```
+/// # #[cfg(feature = "derive")] {
+/// use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+///
+/// #[derive(ULogMessage)]
+/// #[ulog(crate = "ulog_core")]
+/// struct VehicleAttitude { timestamp: u64, q: [f32; 4] }
+///
+/// #[derive(ULogTopics)]
+/// #[ulog(crate = "ulog_core")]
+/// enum Topics { Attitude(VehicleAttitude) }
+///
+/// let bytes = ulog_core::testing::sample_log();
+/// let mut norms = Vec::new();
+/// ulog_core::scan_topics::<Topics, _>(&bytes, |record| {
+///     if let Ok(TopicRecord::Message { message: Topics::Attitude(a), .. }) = record {
+///         norms.push(a.q.iter().map(|v| v * v).sum::<f32>());
+///     }
+/// })
+/// .unwrap();
+/// let log = ulog_core::ULog::parse(&bytes).unwrap();
+/// assert_eq!(norms.len(), log.topic("vehicle_attitude", 0).unwrap().len());
+/// # }
+/// ```
+pub fn scan_topics<E, F>(data: &[u8], mut f: F) -> Result<ScanSummary>
+where
+    E: ULogTopics,
+    F: FnMut(Result<TopicRecord<'_, E>>),
+{
+    let mut dispatcher = TopicDispatcher::<E>::new();
+    // Per subscription: its dispatcher slot (`None` inside: no layout), made at its
+    // first record.
+    let mut slots: Vec<Option<Option<usize>>> = Vec::new();
+    scan(data, |r| {
+        let slot = match slots.get(r.subscription) {
+            Some(&Some(slot)) => slot,
+            _ => first_record(&mut dispatcher, &mut slots, &r, &mut f),
+        };
+        let decoded = slot.and_then(|s| dispatcher.decode(s, r.payload));
+        f(match decoded {
+            None => Ok(TopicRecord::Raw {
+                name: r.name,
+                multi_id: r.multi_id,
+                payload: r.payload,
+            }),
+            Some(Ok(message)) => Ok(TopicRecord::Message {
+                multi_id: r.multi_id,
+                message,
+            }),
+            Some(Err(e)) => Err(Error::new(ErrorKind::Decode(e), r.offset)),
+        })
+    })
+}
+
+/// Plans a subscription of [`scan_topics`] at its first record, reporting a format
+/// that does not fit its variant.
+#[cold]
+fn first_record<E, F>(
+    dispatcher: &mut TopicDispatcher<E>,
+    slots: &mut Vec<Option<Option<usize>>>,
+    r: &ScanRecord<'_, '_>,
+    f: &mut F,
+) -> Option<usize>
+where
+    E: ULogTopics,
+    F: FnMut(Result<TopicRecord<'_, E>>),
+{
+    if r.subscription >= slots.len() {
+        slots.resize(r.subscription + 1, None);
+    }
+    let slot = r.layout.map(|l| dispatcher.subscribe(r.name, l));
+    slots[r.subscription] = Some(slot);
+    if let Some(Subscription::Mismatched(m)) = slot.and_then(|s| dispatcher.subscription(s)) {
+        f(Err(Error::new(
+            ErrorKind::Mismatch(Box::new((**m).clone())),
+            r.subscribed_at,
+        )));
+    }
+    slot
 }

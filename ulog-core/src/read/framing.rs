@@ -141,6 +141,32 @@ enum Phase {
 }
 
 const NO_SUB: u32 = u32::MAX;
+/// Payload size (after the msg_id) standing for "any": a subscription whose format
+/// has no layout cannot have its data messages' sizes checked.
+const ANY_SIZE: u32 = u32::MAX;
+
+/// A msg_id's current subscription (`NO_SUB` when there is none) and the payload
+/// sizes (after the msg_id) its data messages may have: the full layout size, or the
+/// size without trailing padding.
+#[derive(Clone, Copy)]
+struct IdEntry {
+    sub: u32,
+    full: u32,
+    min: u32,
+}
+
+impl IdEntry {
+    const NONE: IdEntry = IdEntry {
+        sub: NO_SUB,
+        full: ANY_SIZE,
+        min: ANY_SIZE,
+    };
+
+    #[inline]
+    fn accepts(&self, n: usize) -> bool {
+        self.full == ANY_SIZE || n == self.full as usize || n == self.min as usize
+    }
+}
 /// Zero bytes that must follow a data message of the wrong size for it to be taken as
 /// a whole message followed by zero fill (rather than a corrupt size field): zero
 /// fill comes in sectors, while payloads hold shorter zero runs.
@@ -165,7 +191,8 @@ pub(crate) struct Framer {
     pub formats: Arc<HashMap<String, Format>>,
     resolver: Arc<Resolver>,
     pub subs: Arc<Vec<SubDef>>,
-    by_id: Arc<Vec<u32>>,
+    /// What a data message of each msg_id belongs to, with the sizes it may have.
+    by_id: Arc<Vec<IdEntry>>,
     pub in_definitions: bool,
     max_records_checked_ahead: usize,
     /// Subscriptions by (name, multi_id), so that a repeated `A` finds its own in
@@ -274,7 +301,7 @@ impl Framer {
             formats: Arc::default(),
             resolver: Arc::new(Resolver::new(Limits::default())),
             subs: Arc::default(),
-            by_id: Arc::new(vec![NO_SUB; 1 << 16]),
+            by_id: Arc::new(vec![IdEntry::NONE; 1 << 16]),
             in_definitions: true,
             max_records_checked_ahead: 2,
             sub_by_key: Arc::default(),
@@ -291,8 +318,91 @@ impl Framer {
     }
 
     pub fn sub_index(&self, msg_id: u16) -> Option<u32> {
-        let i = self.by_id[msg_id as usize];
+        let i = self.by_id[msg_id as usize].sub;
         (i != NO_SUB).then_some(i)
+    }
+
+    /// Frames the data message at the current position when it is the plain case: in
+    /// the data messages, not resynchronising, wholly inside `win` and before the next
+    /// appended offset, of a subscribed msg_id and a size its layout allows. `None`
+    /// leaves every other case, with the same outcome, to [`Framer::step`].
+    #[inline]
+    fn plain_data(&mut self, win: &[u8], base: u64) -> Option<Record> {
+        if self.phase != Phase::Messages || self.scan.is_some() || self.failed.is_some() {
+            return None;
+        }
+        let p = self.pos;
+        let rel = usize::try_from(p.checked_sub(base)?).ok()?;
+        let limit = match self.pending_appended.first() {
+            Some(&off) => win.len().min(usize::try_from(off.checked_sub(base)?).ok()?),
+            None => win.len(),
+        };
+        let head = win.get(rel..rel + 5)?;
+        let size = u16::from_le_bytes([head[0], head[1]]) as usize;
+        if head[2] != b'D' || size < 2 || rel + 3 + size > limit {
+            return None;
+        }
+        let id = u16::from_le_bytes([head[3], head[4]]);
+        let entry = self.by_id[id as usize];
+        if entry.sub == NO_SUB || !entry.accepts(size - 2) {
+            return None;
+        }
+        self.pos = p + 3 + size as u64;
+        Some(Record {
+            offset: p,
+            msg_type: b'D',
+            size: size as u16,
+            sub: Some(entry.sub),
+            unknown: false,
+        })
+    }
+
+    /// Frames the plain data messages (see [`Framer::plain_data`]) from the current
+    /// position on, handing each to `f` with its offset, subscription index,
+    /// subscription and payload (after the message header), and stops at the first
+    /// message that is anything else.
+    #[inline]
+    pub fn plain_data_run<'w>(
+        &mut self,
+        win: &'w [u8],
+        base: u64,
+        mut f: impl FnMut(u64, u32, &SubDef, &'w [u8]),
+    ) {
+        if self.phase != Phase::Messages || self.scan.is_some() || self.failed.is_some() {
+            return;
+        }
+        let Some(mut rel) = self.pos.checked_sub(base).map(|r| r as usize) else {
+            return;
+        };
+        let limit = match self.pending_appended.first() {
+            Some(&off) => match off.checked_sub(base) {
+                Some(o) => win.len().min(usize::try_from(o).unwrap_or(usize::MAX)),
+                None => return,
+            },
+            None => win.len(),
+        };
+        let win = &win[..limit];
+        let by_id = &self.by_id[..];
+        let subs = &self.subs[..];
+        while let Some(head) = win.get(rel..rel + 5) {
+            let size = u16::from_le_bytes([head[0], head[1]]) as usize;
+            let end = rel + 3 + size;
+            if head[2] != b'D' || size < 2 || end > limit {
+                break;
+            }
+            let entry = by_id[u16::from_le_bytes([head[3], head[4]]) as usize];
+            if entry.sub == NO_SUB || !entry.accepts(size - 2) {
+                break;
+            }
+            f(
+                base + rel as u64,
+                entry.sub,
+                &subs[entry.sub as usize],
+                &win[rel + 3..end],
+            );
+            rel = end;
+        }
+        self.pos = base + rel as u64;
     }
 
     fn finding(&mut self, kind: FindingKind, offset: u64, len: u64) {
@@ -302,6 +412,9 @@ impl Framer {
     /// Frames the next record of `win` (bytes of the file from absolute offset
     /// `base`; `eof` when they reach the end of the file).
     pub fn step(&mut self, win: &[u8], base: u64, eof: bool) -> Result<Step> {
+        if let Some(r) = self.plain_data(win, base) {
+            return Ok(Step::Record(r));
+        }
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
@@ -768,8 +881,8 @@ impl Framer {
             b'L' | b'C' => self.in_definitions = false,
             b'R' => {
                 let id = u16_at(payload, 0);
-                if self.by_id[id as usize] != NO_SUB {
-                    Arc::make_mut(&mut self.by_id)[id as usize] = NO_SUB;
+                if self.by_id[id as usize].sub != NO_SUB {
+                    Arc::make_mut(&mut self.by_id)[id as usize] = IdEntry::NONE;
                 }
             }
             b'D' => record.sub = self.sub_index(u16_at(payload, 0)),
@@ -914,8 +1027,16 @@ impl Framer {
                 i
             }
         };
-        if self.by_id[msg_id as usize] != index {
-            Arc::make_mut(&mut self.by_id)[msg_id as usize] = index;
+        if self.by_id[msg_id as usize].sub != index {
+            let (full, min) = match self.subs[index as usize].sizes() {
+                Some((full, min)) => (full as u32, min as u32),
+                None => (ANY_SIZE, ANY_SIZE),
+            };
+            Arc::make_mut(&mut self.by_id)[msg_id as usize] = IdEntry {
+                sub: index,
+                full,
+                min,
+            };
         }
     }
 }

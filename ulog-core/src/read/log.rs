@@ -211,6 +211,9 @@ impl<'a> ULog<'a> {
         };
         let mut started = false;
         loop {
+            framer.plain_data_run(data, 0, |offset, sub, _, payload| {
+                b.data(offset, sub, payload)
+            });
             let step = framer.step(data, 0, true)?;
             if !started {
                 if let Some(h) = framer.header {
@@ -241,11 +244,22 @@ impl<'a> ULog<'a> {
 }
 
 impl<'a> Builder<'a> {
+    /// A data message of subscription `sub` (already mirrored: subscriptions only
+    /// appear through [`Builder::record`]); `payload` starts with the msg_id.
+    #[inline]
+    fn data(&mut self, offset: u64, sub: u32, payload: &[u8]) {
+        self.log.message_count += 1;
+        let i = sub as usize;
+        self.log.subscriptions[i].records.push(offset);
+        if let Some(ts) = self.unwrap[i].push(&payload[2..]) {
+            self.log.last_timestamp = self.log.last_timestamp.max(ts);
+        }
+    }
+
     fn record(&mut self, r: &Record, framer: &mut Framer) {
         let data = self.log.data;
         let start = (r.offset as usize) + MSG_HEADER_LEN;
         let payload = &data[start..start + r.size as usize];
-        self.log.message_count += 1;
         // Subscriptions are created by framing; mirror new ones here.
         while self.log.subscriptions.len() < framer.subs.len() {
             let def = &framer.subs[self.log.subscriptions.len()];
@@ -262,17 +276,13 @@ impl<'a> Builder<'a> {
             });
         }
         if r.msg_type == b'D' {
-            if let Some(i) = r.sub {
-                let sub = &mut self.log.subscriptions[i as usize];
-                sub.records.push(r.offset);
-                if let Some(ts) = self.unwrap[i as usize].push(&payload[2..]) {
-                    if ts > self.log.last_timestamp {
-                        self.log.last_timestamp = ts;
-                    }
-                }
+            match r.sub {
+                Some(i) => self.data(r.offset, i, payload),
+                None => self.log.message_count += 1,
             }
             return;
         }
+        self.log.message_count += 1;
         let in_definitions = framer.in_definitions;
         match Message::from_record(r, payload, None) {
             Message::Info(kv) => self.log.info.push(kv),

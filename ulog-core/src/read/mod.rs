@@ -3,5 +3,6 @@ pub mod framing;
 pub mod iter;
 pub mod log;
 pub mod message;
+pub mod scan;
 pub mod stream;
 pub mod timestamp;

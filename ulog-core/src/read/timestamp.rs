@@ -72,12 +72,14 @@ impl Unwrapper {
     }
 
     /// The unwrapped microseconds of the next payload of the series.
+    #[inline]
     pub fn push(&mut self, payload: &[u8]) -> Option<u64> {
         let f = self.field?;
-        let raw = f.raw(payload)?;
         if f.ty == BasicType::UInt64 {
-            return Some(raw);
+            let b = payload.get(f.offset..f.offset + 8)?;
+            return Some(u64::from_le_bytes(b.try_into().ok()?));
         }
+        let raw = f.raw(payload)?;
         if let Some(last) = self.last_raw {
             if raw < last {
                 self.wraps += 1;

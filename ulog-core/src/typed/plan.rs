@@ -118,12 +118,37 @@ impl RawPlan {
                 let src = payload.get(c.src..c.src + c.len);
                 let dst = image.get_mut(c.dst..c.dst + c.len);
                 match (src, dst) {
-                    (Some(src), Some(dst)) => dst.copy_from_slice(src),
+                    (Some(src), Some(dst)) => copy_field(dst, src),
                     _ => return Err(self.length_error(len)),
                 }
             }
         }
         Ok(T::from_wire(&wire))
+    }
+}
+
+/// Copies `src` into `dst` (of the same length). Fields are short: lengths up to 32
+/// are copied as two overlapping fixed-size moves, without a call to `memcpy`.
+#[inline(always)]
+fn copy_field(dst: &mut [u8], src: &[u8]) {
+    let n = src.len();
+    if n != dst.len() {
+        return dst.copy_from_slice(src);
+    }
+    macro_rules! pair {
+        ($w:expr) => {{
+            dst[..$w].copy_from_slice(&src[..$w]);
+            dst[n - $w..].copy_from_slice(&src[n - $w..]);
+        }};
+    }
+    match n {
+        0 => {}
+        1 => dst[0] = src[0],
+        2..=3 => pair!(2),
+        4..=7 => pair!(4),
+        8..=15 => pair!(8),
+        16..=32 => pair!(16),
+        _ => dst.copy_from_slice(src),
     }
 }
 

@@ -1,0 +1,184 @@
+//! One-pass scans (`scan`, `scan_reader`, `scan_topics`) hand out exactly the data
+//! messages the whole-file parse indexes, in file order, with the same findings, on
+//! every corpus log (damaged ones included) and however the bytes arrive.
+
+use std::io::Read;
+
+use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+use ulog_core::{Order, ULog};
+use ulog_tests::{corpus_dir, corpus_files, stem};
+
+/// Every log to check: the sample and the corpus.
+fn logs() -> Vec<(String, Vec<u8>)> {
+    let mut logs = vec![("sample".to_owned(), ulog_core::testing::sample_log())];
+    if corpus_dir().is_some() {
+        for p in corpus_files("scan") {
+            logs.push((stem(&p), std::fs::read(&p).unwrap()));
+        }
+    } else {
+        eprintln!("SKIPPED corpus part of scan tests: no shared corpus");
+    }
+    logs
+}
+
+/// (offset, subscription, payload) of every data message the parse indexed, in file
+/// order.
+fn indexed<'a>(log: &ULog<'a>) -> Vec<(u64, usize, &'a [u8])> {
+    let mut all: Vec<(u64, usize, &'a [u8])> = Vec::new();
+    for (i, topic) in log.topics().enumerate() {
+        for (p, &o) in topic.payloads().zip(topic.message_offsets()) {
+            all.push((o, i, p));
+        }
+    }
+    all.sort_by_key(|r| r.0);
+    all
+}
+
+/// A reader that hands out the bytes in pieces of pseudo-random sizes (1 to 700
+/// bytes), so that messages and damaged stretches straddle reads.
+struct Drip<'a> {
+    bytes: &'a [u8],
+    state: u64,
+}
+
+impl Read for Drip<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        self.state = self
+            .state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let n = ((self.state >> 33) % 700 + 1) as usize;
+        let n = n.min(buf.len()).min(self.bytes.len());
+        buf[..n].copy_from_slice(&self.bytes[..n]);
+        self.bytes = &self.bytes[n..];
+        Ok(n)
+    }
+}
+
+#[test]
+fn scans_hand_out_what_the_parse_indexes() {
+    let mut checked = 0;
+    for (name, bytes) in logs() {
+        let Ok(log) = ULog::parse(&bytes) else {
+            assert!(ulog_core::scan(&bytes, |_| {}).is_err(), "{name}");
+            assert!(
+                ulog_core::scan_reader(&bytes[..], |_| {}).is_err(),
+                "{name}"
+            );
+            continue;
+        };
+        let expected = indexed(&log);
+        let mut got = Vec::new();
+        let summary = ulog_core::scan(&bytes, |r| {
+            let topic = log.topic_at(r.subscription);
+            assert_eq!(
+                (r.name, r.multi_id),
+                (topic.name(), topic.multi_id()),
+                "{name}"
+            );
+            assert_eq!(r.subscribed_at, topic.subscription_offset(), "{name}");
+            assert_eq!(
+                r.layout.is_some(),
+                log.topic_at(r.subscription).layout().is_ok()
+            );
+            got.push((r.offset, r.subscription, r.payload));
+        })
+        .unwrap();
+        assert_eq!(got, expected, "{name}");
+        assert_eq!(summary.messages, log.message_count(), "{name}");
+        assert_eq!(summary.data_messages as usize, expected.len(), "{name}");
+        assert_eq!(summary.findings, log.findings(), "{name}");
+        assert_eq!(summary.header, log.header(), "{name}");
+        assert_eq!(summary.flag_bits.as_ref(), log.flag_bits(), "{name}");
+        assert_eq!(summary.topics.len(), log.subscriptions().len(), "{name}");
+        for (t, topic) in summary.topics.iter().zip(log.topics()) {
+            assert_eq!(
+                (t.name.as_str(), t.multi_id),
+                (topic.name(), topic.multi_id())
+            );
+            assert_eq!(t.msg_id, topic.msg_id(), "{name}");
+        }
+
+        for seed in [1, 2] {
+            let mut streamed: Vec<(u64, usize, Vec<u8>)> = Vec::new();
+            let drip = Drip {
+                bytes: &bytes,
+                state: seed,
+            };
+            let s = ulog_core::scan_reader(drip, |r| {
+                streamed.push((r.offset, r.subscription, r.payload.to_vec()))
+            })
+            .unwrap();
+            assert_eq!(s, summary, "{name}: streamed summary");
+            assert!(
+                streamed
+                    .iter()
+                    .map(|(o, s, p)| (*o, *s, &p[..]))
+                    .eq(expected.iter().copied()),
+                "{name}: streamed records"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 1);
+}
+
+#[derive(ULogMessage, Debug, Clone, Copy)]
+struct VehicleAttitude {
+    timestamp: u64,
+    q: [f32; 4],
+}
+
+#[derive(ULogMessage, Debug, Clone, Copy)]
+struct SensorCombined {
+    timestamp: u64,
+    gyro_rad: [f32; 3],
+    accelerometer_m_s2: [f32; 3],
+}
+
+/// `esc_status` with a field type no log has: a mismatch to report.
+#[derive(ULogMessage, Debug, Clone, Copy)]
+struct EscStatus {
+    timestamp: u64,
+    esc_count: u64,
+}
+
+#[derive(ULogTopics, Debug)]
+enum Topics {
+    Attitude(VehicleAttitude),
+    Sensors(SensorCombined),
+    Esc(EscStatus),
+}
+
+#[test]
+fn scan_topics_is_the_file_order_walk() {
+    let mut decoded = 0;
+    for (name, bytes) in logs() {
+        let Ok(log) = ULog::parse(&bytes) else {
+            continue;
+        };
+        let walked: Vec<String> = log
+            .walk::<Topics>(Order::File)
+            .map(|r| format!("{r:?}"))
+            .collect();
+        let mut scanned = Vec::new();
+        ulog_core::scan_topics::<Topics, _>(&bytes, |r| {
+            if let Ok(TopicRecord::Message { message, .. }) = &r {
+                let timestamp = match message {
+                    Topics::Attitude(a) => a.timestamp,
+                    Topics::Sensors(s) => s.timestamp,
+                    Topics::Esc(e) => e.timestamp,
+                };
+                assert!(timestamp > 0, "{name}");
+                decoded += 1;
+            }
+            scanned.push(format!("{r:?}"));
+        })
+        .unwrap();
+        assert_eq!(scanned.len(), walked.len(), "{name}");
+        for (i, (s, w)) in scanned.iter().zip(&walked).enumerate() {
+            assert_eq!(s, w, "{name}: record {i}");
+        }
+    }
+    assert!(decoded > 0);
+}

@@ -1,0 +1,260 @@
+//! One pass over the data messages of a log, in file order, keeping nothing: the
+//! fastest way through a log when each message is needed once (a sum, a conversion,
+//! a filter, columns built as the file goes by). [`scan`] reads a buffer or a memory
+//! map; [`scan_reader`] reads any `Read` in bounded memory, so a log far larger than
+//! memory is read with a few hundred KiB resident.
+//!
+//! Framing is the same as [`ULog::parse`](crate::ULog::parse)'s: definitions and
+//! subscriptions are learnt, damage is stepped over and reported in the summary. Only
+//! data messages of known subscriptions are handed out; the other messages are framed
+//! and counted (use [`Messages`](crate::Messages) to see them).
+
+use std::io::Read;
+use std::sync::Arc;
+
+use ulog_format::{Layout, LayoutError};
+
+use crate::error::{Error, ErrorKind, Result};
+use crate::finding::Finding;
+use crate::read::framing::{FlagBits, Framer, Header, Step, SubDef, MSG_HEADER_LEN};
+
+/// A data message met by a scan.
+#[derive(Debug, Clone, Copy)]
+pub struct ScanRecord<'s, 'p> {
+    /// Byte offset of the message's 3-byte header.
+    pub offset: u64,
+    /// The subscription's index, in the order of the `A` messages (the index into
+    /// [`ULog::subscriptions`](crate::ULog::subscriptions) of the same file).
+    pub subscription: usize,
+    /// Byte offset of the subscription's `A` message.
+    pub subscribed_at: u64,
+    /// The topic (format) name.
+    pub name: &'s str,
+    /// The instance number.
+    pub multi_id: u8,
+    /// The layout of the topic's format (`None` when it could not be laid out; the
+    /// finding says why).
+    pub layout: Option<&'s Arc<Layout>>,
+    /// The payload after the msg_id.
+    pub payload: &'p [u8],
+}
+
+/// A subscription met by a scan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanTopic {
+    /// The topic (format) name.
+    pub name: String,
+    /// The instance number.
+    pub multi_id: u8,
+    /// The msg_id of its (first) subscription.
+    pub msg_id: u16,
+    /// Byte offset of the subscription's `A` message.
+    pub subscribed_at: u64,
+    /// The layout of the topic's format, or why it could not be laid out.
+    pub layout: std::result::Result<Arc<Layout>, LayoutError>,
+}
+
+/// What a scan saw besides the data messages it handed out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanSummary {
+    /// The file header.
+    pub header: Header,
+    /// The flag bits message, when the log has one.
+    pub flag_bits: Option<FlagBits>,
+    /// Messages framed (of every type).
+    pub messages: u64,
+    /// Data messages handed out.
+    pub data_messages: u64,
+    /// Every subscription met, in the order of the `A` messages (the indexes of
+    /// [`ScanRecord::subscription`]).
+    pub topics: Vec<ScanTopic>,
+    /// What the reader found and stepped over, in file order.
+    pub findings: Vec<Finding>,
+}
+
+/// The framing state of a scan between windows of the file.
+struct Driver {
+    framer: Framer,
+    messages: u64,
+    data: u64,
+}
+
+#[inline(always)]
+fn record<'s, 'p>(offset: u64, sub: u32, def: &'s SubDef, payload: &'p [u8]) -> ScanRecord<'s, 'p> {
+    ScanRecord {
+        offset,
+        subscription: sub as usize,
+        subscribed_at: def.offset,
+        name: &def.name,
+        multi_id: def.multi_id,
+        layout: def.layout.as_ref().ok(),
+        // Framing checked that a data message holds its msg_id.
+        payload: &payload[2..],
+    }
+}
+
+impl Driver {
+    fn new() -> Driver {
+        Driver {
+            framer: Framer::new(),
+            messages: 0,
+            data: 0,
+        }
+    }
+
+    /// Frames what `win` (the file from `base`) holds. `true`: the end of the file;
+    /// `false`: more bytes are needed.
+    #[inline]
+    fn run<'w, F>(&mut self, win: &'w [u8], base: u64, eof: bool, f: &mut F) -> Result<bool>
+    where
+        F: FnMut(ScanRecord<'_, 'w>),
+    {
+        loop {
+            let mut n = 0u64;
+            self.framer
+                .plain_data_run(win, base, |offset, sub, def, payload| {
+                    n += 1;
+                    f(record(offset, sub, def, payload));
+                });
+            self.messages += n;
+            self.data += n;
+            match self.framer.step(win, base, eof)? {
+                Step::Record(r) => {
+                    self.messages += 1;
+                    if let (b'D', Some(sub)) = (r.msg_type, r.sub) {
+                        self.data += 1;
+                        let start = (r.offset - base) as usize + MSG_HEADER_LEN;
+                        let payload = &win[start..start + r.size as usize];
+                        f(record(
+                            r.offset,
+                            sub,
+                            &self.framer.subs[sub as usize],
+                            payload,
+                        ));
+                    }
+                }
+                Step::NeedMore => return Ok(false),
+                Step::End => return Ok(true),
+            }
+        }
+    }
+
+    fn summary(mut self) -> ScanSummary {
+        ScanSummary {
+            header: self.framer.header.unwrap_or(Header {
+                version: 0,
+                timestamp: 0,
+            }),
+            flag_bits: self.framer.flag_bits,
+            messages: self.messages,
+            data_messages: self.data,
+            topics: self
+                .framer
+                .subs
+                .iter()
+                .map(|s| ScanTopic {
+                    name: s.name.clone(),
+                    multi_id: s.multi_id,
+                    msg_id: s.msg_id,
+                    subscribed_at: s.offset,
+                    layout: s.layout.clone(),
+                })
+                .collect(),
+            findings: std::mem::take(&mut self.framer.findings),
+        }
+    }
+}
+
+/// Hands every data message of `data` (a whole ULog file) to `f`, in file order.
+///
+/// Errors are those of [`ULog::parse`](crate::ULog::parse): input that is not ULog,
+/// or a log the spec says to refuse; damage is reported in the summary.
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// let mut attitude_rows = 0;
+/// let summary = ulog_core::scan(&bytes, |record| {
+///     if record.name == "vehicle_attitude" {
+///         attitude_rows += 1;
+///     }
+/// })?;
+/// let log = ulog_core::ULog::parse(&bytes)?;
+/// assert_eq!(attitude_rows, log.topic("vehicle_attitude", 0)?.len());
+/// assert_eq!(summary.messages, log.message_count());
+/// # Ok::<(), ulog_core::Error>(())
+/// ```
+pub fn scan<'a, F>(data: &'a [u8], mut f: F) -> Result<ScanSummary>
+where
+    F: FnMut(ScanRecord<'_, 'a>),
+{
+    let mut driver = Driver::new();
+    if !driver.run(data, 0, true, &mut f)? {
+        unreachable!("the whole file is given");
+    }
+    Ok(driver.summary())
+}
+
+/// Bytes read from the source at a time by [`scan_reader`].
+const READ_CHUNK: usize = 256 * 1024;
+
+/// Hands every data message read from `src` to `f`, in file order, holding at most
+/// the bytes framing still needs (see [`Incremental`](crate::Incremental)) plus
+/// 256 KiB of read buffer. The same messages and findings as [`scan`] over the whole
+/// file.
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// let mut from_reader = 0u64;
+/// let summary = ulog_core::scan_reader(&bytes[..], |_| from_reader += 1)?;
+/// assert_eq!(from_reader, summary.data_messages);
+/// assert_eq!(summary, ulog_core::scan(&bytes, |_| {})?);
+/// # Ok::<(), ulog_core::Error>(())
+/// ```
+pub fn scan_reader<R, F>(src: R, f: F) -> Result<ScanSummary>
+where
+    R: Read,
+    F: FnMut(ScanRecord<'_, '_>),
+{
+    scan_range(src, u64::MAX, f)
+}
+
+/// [`scan_reader`] that may stop once framing has passed offset `stop` (then the
+/// summary covers only what was framed): every data message that starts before
+/// `stop` has been handed out, and some after it may have been.
+pub(crate) fn scan_range<R, F>(mut src: R, stop: u64, mut f: F) -> Result<ScanSummary>
+where
+    R: Read,
+    F: FnMut(ScanRecord<'_, '_>),
+{
+    let mut driver = Driver::new();
+    // The file from `base` is `buf[start..end]`.
+    let mut buf = vec![0u8; READ_CHUNK * 2];
+    let (mut start, mut end) = (0usize, 0usize);
+    let mut base = 0u64;
+    let mut eof = false;
+    loop {
+        if driver.run(&buf[start..end], base, eof, &mut f)? || driver.framer.keep_from() >= stop {
+            return Ok(driver.summary());
+        }
+        // Keep what framing still needs, at the front, then read behind it.
+        let keep = driver.framer.keep_from().max(base);
+        let drop = ((keep - base) as usize).min(end - start);
+        start += drop;
+        base += drop as u64;
+        buf.copy_within(start..end, 0);
+        end -= start;
+        start = 0;
+        if buf.len() - end < READ_CHUNK {
+            buf.resize(end + READ_CHUNK, 0);
+        }
+        let n = loop {
+            match src.read(&mut buf[end..]) {
+                Ok(n) => break n,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(Error::new(ErrorKind::Io(e.to_string()), base + end as u64)),
+            }
+        };
+        end += n;
+        eof = n == 0;
+    }
+}
