@@ -230,23 +230,29 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
     P.append(Program("framing", "ours", [b["ours"], "framing", path],
                      note="ULog::parse on a memory map"))
     P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
-                     note="StreamReader, 64 KiB chunks"))
+                     note="scan_reader: read() in 256 KiB chunks, one pass"))
     P.append(Program("generic decode", "ours (mmap)", [b["ours"], "decode-mmap", path],
-                     note="ULog::parse + Topic::columns() readers"))
+                     note="scan over a memory map, one pass"))
     if peers:
         P.append(Program("generic decode", "px4-ulog 0.6 (stream)", [b["peers"], "px4-stream", path],
                          note="callback, every flattened field"))
         P.append(Program("generic decode", "yule_log 0.4 (raw)", [b["peers"], "yule-raw", path],
                          note="ULogParser, every field"))
     P.append(Program("typed decode", "ours (derive)", [b["ours"], "typed", path],
-                     msgs_from_output=True, note="sensor_combined + vehicle_attitude"))
+                     msgs_from_output=True,
+                     note="sensor_combined + vehicle_attitude: scan_topics over a memory map"))
+    P.append(Program("typed decode", "ours (derive, indexed)", [b["ours"], "typed-indexed", path],
+                     msgs_from_output=True, note="the same through ULog::parse + ULog::read::<T>"))
     if peers:
         P.append(Program("typed decode", "yule_log 0.4 (derive)", [b["peers"], "yule-derive", path],
                          msgs_from_output=True, note="same two topics, same fields"))
     P.append(Program("columnar load", "ours (2 threads)", [b["ours"], "columns", path, "2"],
-                     note="parse + load_all_columns(2)"))
+                     note="load_file_columns(2): read(), no map; topics shared by 2 threads"))
     P.append(Program("columnar load", "ours (1 thread)", [b["ours"], "columns", path, "1"],
-                     note="parse + load_all_columns(1)"))
+                     note="load_file_columns(1)"))
+    P.append(Program("columnar load", "ours (indexed, 2 threads)",
+                     [b["ours"], "columns-indexed", path, "2"],
+                     note="ULog::parse on a memory map + load_all_columns(2)"))
     if peers:
         P.append(Program("columnar load", "px4-ulog 0.6 (full_parser)", [b["peers"], "px4-full", path],
                          note="full_parser::read_file"))
@@ -263,10 +269,7 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
     if ulog2csv:
         P.append(Program("CSV export", "pyulog 1.3 ulog2csv", ulog2csv + ["-o", "{out}", path],
                          out_dir=True, note="Python process"))
-    # --- Parquet export slot -------------------------------------------------------
-    # `ulog parquet` is being added on another branch. When the CLI has the subcommand
-    # this row runs it (assumed interface: `ulog parquet FILE -o DIR`); otherwise the
-    # table says it was skipped.
+    # Parquet export: run when the CLI was built with its `parquet` subcommand.
     if parquet:
         P.append(Program("Parquet export", "ours (ulog parquet)",
                          [b["ulog"], "parquet", path, "-o", "{out}"], out_dir=True))

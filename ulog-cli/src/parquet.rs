@@ -26,7 +26,8 @@ use crate::progress::Progress;
 /// is a string without its trailing NULs, one character per byte (ISO 8859-1, so no
 /// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
 ///
-/// Several logs are converted in parallel, each by one thread. A log that cannot be
+/// Several logs are converted in parallel, each by one thread; the topics of a single
+/// log are written in parallel. A log that cannot be
 /// read or converted is reported (one line) and the others go on; the exit status is
 /// then that of the first failure, in the order given.
 #[derive(Debug, clap::Args)]
@@ -52,7 +53,8 @@ pub struct Args {
     /// Compression of the Parquet files.
     #[arg(long, value_enum, default_value = "snappy", value_name = "CODEC")]
     compression: Codec,
-    /// Logs converted at the same time (default: the number of CPUs).
+    /// Threads (default: the number of CPUs): logs converted at the same time, or,
+    /// for a single log, topics written at the same time.
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<NonZeroUsize>,
 }
@@ -104,7 +106,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
     let total: u64 = jobs.iter().map(|j| j.size).sum();
     let progress = Progress::bytes(total, "parquet");
-    let threads = args
+    let available = args
         .jobs
         .map(NonZeroUsize::get)
         .or_else(|| {
@@ -112,9 +114,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .ok()
                 .map(NonZeroUsize::get)
         })
-        .unwrap_or(1)
-        .min(jobs.len())
-        .max(1);
+        .unwrap_or(1);
+    let threads = available.min(jobs.len()).max(1);
+    let options = Options {
+        threads: if jobs.len() == 1 { available } else { 1 },
+        ..options
+    };
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Result<Done, Failure>>>> =
         Mutex::new((0..jobs.len()).map(|_| None).collect());

@@ -69,20 +69,23 @@ impl ColumnData {
         }
     }
 
-    /// Appends the value at `offset` of `p` (which holds it: checked by the caller).
-    #[inline]
-    fn push_from(&mut self, p: &[u8], offset: usize) {
+    /// Appends the value at `offset` of every row of `rows` (rows of `stride` bytes
+    /// that hold it: checked by the caller).
+    fn extend_from_rows(&mut self, rows: &[u8], stride: usize, offset: usize) {
+        let rows = rows.chunks_exact(stride);
         macro_rules! le {
             ($v:expr, $t:ty) => {{
                 const N: usize = core::mem::size_of::<$t>();
-                let mut a = [0u8; N];
-                a.copy_from_slice(&p[offset..offset + N]);
-                $v.push(<$t>::from_le_bytes(a))
+                $v.extend(rows.map(|r| {
+                    let mut a = [0u8; N];
+                    a.copy_from_slice(&r[offset..offset + N]);
+                    <$t>::from_le_bytes(a)
+                }))
             }};
         }
         match self {
-            ColumnData::I8(v) => v.push(p[offset] as i8),
-            ColumnData::U8(v) | ColumnData::Char(v) => v.push(p[offset]),
+            ColumnData::I8(v) => v.extend(rows.map(|r| r[offset] as i8)),
+            ColumnData::U8(v) | ColumnData::Char(v) => v.extend(rows.map(|r| r[offset])),
             ColumnData::I16(v) => le!(v, i16),
             ColumnData::U16(v) => le!(v, u16),
             ColumnData::I32(v) => le!(v, i32),
@@ -91,32 +94,61 @@ impl ColumnData {
             ColumnData::U64(v) => le!(v, u64),
             ColumnData::F32(v) => le!(v, f32),
             ColumnData::F64(v) => le!(v, f64),
-            ColumnData::Bool(v) => v.push(p[offset] != 0),
+            ColumnData::Bool(v) => v.extend(rows.map(|r| r[offset] != 0)),
             ColumnData::Str { width, bytes } => {
-                bytes.extend_from_slice(&p[offset..offset + *width]);
+                for r in rows {
+                    bytes.extend_from_slice(&r[offset..offset + *width]);
+                }
             }
         }
     }
 
-    /// Appends the values of `more` (a column of the same type; another type is left
-    /// out, which [`Table`] never asks for).
-    fn append(&mut self, more: ColumnData) {
-        match (self, more) {
-            (ColumnData::I8(a), ColumnData::I8(b)) => a.extend(b),
-            (ColumnData::U8(a), ColumnData::U8(b)) | (ColumnData::Char(a), ColumnData::Char(b)) => {
-                a.extend(b)
-            }
-            (ColumnData::I16(a), ColumnData::I16(b)) => a.extend(b),
-            (ColumnData::U16(a), ColumnData::U16(b)) => a.extend(b),
-            (ColumnData::I32(a), ColumnData::I32(b)) => a.extend(b),
-            (ColumnData::U32(a), ColumnData::U32(b)) => a.extend(b),
-            (ColumnData::I64(a), ColumnData::I64(b)) => a.extend(b),
-            (ColumnData::U64(a), ColumnData::U64(b)) => a.extend(b),
-            (ColumnData::F32(a), ColumnData::F32(b)) => a.extend(b),
-            (ColumnData::F64(a), ColumnData::F64(b)) => a.extend(b),
-            (ColumnData::Bool(a), ColumnData::Bool(b)) => a.extend(b),
-            (ColumnData::Str { bytes: a, .. }, ColumnData::Str { bytes: b, .. }) => a.extend(b),
-            _ => debug_assert!(false, "columns of different types"),
+    /// Rows and room for rows (of a `Str` column: in rows of its width).
+    fn len_capacity(&self) -> (usize, usize) {
+        macro_rules! lc {
+            ($v:expr) => {
+                ($v.len(), $v.capacity())
+            };
+        }
+        match self {
+            ColumnData::I8(v) => lc!(v),
+            ColumnData::U8(v) | ColumnData::Char(v) => lc!(v),
+            ColumnData::I16(v) => lc!(v),
+            ColumnData::U16(v) => lc!(v),
+            ColumnData::I32(v) => lc!(v),
+            ColumnData::U32(v) => lc!(v),
+            ColumnData::I64(v) => lc!(v),
+            ColumnData::U64(v) => lc!(v),
+            ColumnData::F32(v) => lc!(v),
+            ColumnData::F64(v) => lc!(v),
+            ColumnData::Bool(v) => lc!(v),
+            ColumnData::Str { width, bytes } => (
+                bytes.len().checked_div(*width).unwrap_or(0),
+                bytes.capacity().checked_div(*width).unwrap_or(usize::MAX),
+            ),
+        }
+    }
+
+    /// Makes room for `rows` rows in all.
+    fn reserve_rows(&mut self, rows: usize) {
+        macro_rules! room {
+            ($v:expr, $n:expr) => {
+                $v.reserve_exact($n.saturating_sub($v.len()))
+            };
+        }
+        match self {
+            ColumnData::I8(v) => room!(v, rows),
+            ColumnData::U8(v) | ColumnData::Char(v) => room!(v, rows),
+            ColumnData::I16(v) => room!(v, rows),
+            ColumnData::U16(v) => room!(v, rows),
+            ColumnData::I32(v) => room!(v, rows),
+            ColumnData::U32(v) => room!(v, rows),
+            ColumnData::I64(v) => room!(v, rows),
+            ColumnData::U64(v) => room!(v, rows),
+            ColumnData::F32(v) => room!(v, rows),
+            ColumnData::F64(v) => room!(v, rows),
+            ColumnData::Bool(v) => room!(v, rows),
+            ColumnData::Str { width, bytes } => room!(bytes, rows.saturating_mul(*width)),
         }
     }
 
@@ -194,13 +226,17 @@ impl Topic<'_, '_> {
     pub fn load_columns(&self) -> Result<Vec<Column>> {
         let mut table = Table::new(self.layout()?, self.len());
         for p in self.payloads() {
-            table.push(p);
+            table.push(p, |_| 0);
         }
         Ok(table.finish())
     }
 }
 
-/// The columns of one topic while they are filled, one payload at a time.
+/// The columns of one topic while they are filled, one payload at a time. Rows are
+/// gathered in a small row-major block first and moved into the columns a block at
+/// a time, column by column: each column then receives a run of values at once
+/// (one type dispatch per column and block, sequential writes) instead of one
+/// value per row scattered over every column.
 pub(crate) struct Table {
     paths: Vec<String>,
     data: Vec<ColumnData>,
@@ -209,8 +245,13 @@ pub(crate) struct Table {
     /// full size or the size without trailing padding, which both hold them. A
     /// shorter payload (never framed, but cheap to survive) reads as zero-filled.
     needed: usize,
-    scratch: Vec<u8>,
+    /// Rows not yet moved into the columns, `needed` bytes each.
+    block: Vec<u8>,
 }
+
+/// Bytes of rows gathered before they are moved into the columns (small enough to
+/// stay in the first-level cache).
+const BLOCK_BYTES: usize = 16 * 1024;
 
 impl Table {
     /// Empty columns for `layout`, with room for `rows` rows.
@@ -229,35 +270,55 @@ impl Table {
             offsets: leaves.iter().map(|l| l.offset).collect(),
             paths: leaves.into_iter().map(|l| l.path.clone()).collect(),
             needed,
-            scratch: Vec::new(),
+            block: Vec::new(),
         }
     }
 
-    /// Appends the row of one payload.
+    /// Appends the row of one payload, moving the gathered rows into the columns when
+    /// the block is full. `total_rows` estimates how many rows the columns will hold
+    /// in the end (0: no estimate): columns about to grow are given room for that
+    /// many at once, so that they are not copied as they grow. (Room never written
+    /// costs address space, not memory.)
     #[inline]
-    pub(crate) fn push(&mut self, p: &[u8]) {
-        let p = if p.len() >= self.needed {
-            p
-        } else {
-            self.scratch.clear();
-            self.scratch.resize(self.needed, 0);
-            self.scratch[..p.len()].copy_from_slice(p);
-            &self.scratch[..]
-        };
-        for (column, &offset) in self.data.iter_mut().zip(&self.offsets) {
-            column.push_from(p, offset);
+    pub(crate) fn push(&mut self, p: &[u8], total_rows: impl FnOnce(usize) -> usize) {
+        if self.needed == 0 {
+            return;
+        }
+        match p.get(..self.needed) {
+            Some(row) => self.block.extend_from_slice(row),
+            None => {
+                let start = self.block.len();
+                self.block.extend_from_slice(p);
+                self.block.resize(start + self.needed, 0);
+            }
+        }
+        if self.block.len() >= BLOCK_BYTES {
+            let rows = self.block.len() / self.needed;
+            let (len, capacity) = self.data.first().map_or((0, 0), |c| c.len_capacity());
+            if len + rows > capacity {
+                let total = total_rows(len + rows).max(len + rows);
+                for column in &mut self.data {
+                    column.reserve_rows(total);
+                }
+            }
+            self.flush();
         }
     }
 
-    /// Appends the rows of `later` (a table of the same layout).
-    pub(crate) fn append(&mut self, later: Table) {
-        for (column, more) in self.data.iter_mut().zip(later.data) {
-            column.append(more);
+    /// Moves the gathered rows into the columns.
+    fn flush(&mut self) {
+        if self.block.is_empty() {
+            return;
         }
+        for (column, &offset) in self.data.iter_mut().zip(&self.offsets) {
+            column.extend_from_rows(&self.block, self.needed, offset);
+        }
+        self.block.clear();
     }
 
     /// The columns, named.
-    pub(crate) fn finish(self) -> Vec<Column> {
+    pub(crate) fn finish(mut self) -> Vec<Column> {
+        self.flush();
         self.paths
             .into_iter()
             .zip(self.data)

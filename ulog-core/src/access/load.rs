@@ -1,8 +1,7 @@
 //! Columnar load straight from a file: one pass in file order over bytes read from
 //! disk (no memory map, no index), so that the memory held is the columns themselves
-//! plus a few read buffers. On several threads the file is cut into byte ranges:
-//! each thread frames the file up to the end of its range and fills columns from the
-//! data messages in it, and the ranges' columns are joined in order.
+//! plus a few read buffers. On several threads, each thread reads the whole file and
+//! fills the columns of its share of the topics.
 
 use std::fs::File;
 use std::io::Read;
@@ -34,44 +33,67 @@ pub struct LoadedColumns {
 }
 
 /// The tables of one byte range, by subscription index.
-#[derive(Default)]
-struct Tables(Vec<Option<Table>>);
+struct Tables {
+    tables: Vec<Option<Table>>,
+    /// The byte range (`end`: the file's length when known, else `u64::MAX`).
+    start: u64,
+    end: u64,
+}
 
 impl Tables {
+    fn new(start: u64, end: u64) -> Tables {
+        Tables {
+            tables: Vec::new(),
+            start,
+            end,
+        }
+    }
+
     #[inline]
     fn push(&mut self, r: &ScanRecord<'_, '_>) {
-        match self.0.get_mut(r.subscription) {
-            Some(Some(table)) => table.push(r.payload),
+        let (start, end) = (self.start, self.end);
+        match self.tables.get_mut(r.subscription) {
+            // A topic's rows are about evenly spread over the file: its rows so far,
+            // scaled from the bytes read to the whole range, with a margin.
+            Some(Some(table)) => table.push(r.payload, |rows| {
+                let done = r.offset.saturating_sub(start).max(1);
+                let whole = end.saturating_sub(start);
+                if whole >= u64::MAX / 2 || done < 1 << 20 {
+                    return 0;
+                }
+                let estimate = rows as u128 * u128::from(whole) / u128::from(done);
+                usize::try_from(estimate + estimate / 8).unwrap_or(0)
+            }),
             _ => self.first(r),
         }
     }
 
     #[cold]
     fn first(&mut self, r: &ScanRecord<'_, '_>) {
-        if r.subscription >= self.0.len() {
-            self.0.resize_with(r.subscription + 1, || None);
+        if r.subscription >= self.tables.len() {
+            self.tables.resize_with(r.subscription + 1, || None);
         }
         // A subscription without a layout has no table; its records are left out
         // here and its entry says why.
         if let Some(layout) = r.layout {
             let mut table = Table::new(layout, 0);
-            table.push(r.payload);
-            self.0[r.subscription] = Some(table);
+            table.push(r.payload, |_| 0);
+            self.tables[r.subscription] = Some(table);
         }
     }
 }
 
-fn finish(summary: ScanSummary, ranges: Vec<Tables>) -> LoadedColumns {
+/// The topics of `summary` with their tables, taken from the shares that filled
+/// them (each subscription is filled by one share at most).
+fn finish(summary: ScanSummary, shares: Vec<Tables>) -> LoadedColumns {
     let mut joined: Vec<Option<Table>> = Vec::new();
-    for tables in ranges {
-        for (i, table) in tables.0.into_iter().enumerate() {
+    for tables in shares {
+        for (i, table) in tables.tables.into_iter().enumerate() {
             if i >= joined.len() {
                 joined.resize_with(i + 1, || None);
             }
-            match (&mut joined[i], table) {
-                (Some(t), Some(more)) => t.append(more),
-                (slot @ None, more) => *slot = more,
-                (Some(_), None) => {}
+            if joined[i].is_none() {
+                joined[i] = table;
             }
         }
     }
@@ -109,14 +131,15 @@ fn finish(summary: ScanSummary, ranges: Vec<Tables>) -> LoadedColumns {
 /// # Ok::<(), ulog_core::Error>(())
 /// ```
 pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
-    let mut tables = Tables::default();
+    let mut tables = Tables::new(0, u64::MAX);
     let summary = scan_range(src, u64::MAX, |r| tables.push(&r))?;
     Ok(finish(summary, vec![tables]))
 }
 
 /// Every topic's columns of the file at `path`, read on up to `threads` threads
-/// (`0` or `1`: on this one), each reading the file itself: the same result as
-/// [`load_columns`] on one thread.
+/// (`0` or `1`: on this one): the same result as [`load_columns`]. Each thread reads
+/// the whole file and fills the columns of its share of the topics; the shares are
+/// balanced by how many payload bytes each topic has in the first 2% of the file.
 ///
 /// ```no_run
 /// let loaded = ulog_core::load_file_columns("flight.ulg", 2)?;
@@ -129,37 +152,95 @@ pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
 /// ```
 pub fn load_file_columns(path: impl AsRef<Path>, threads: usize) -> Result<LoadedColumns> {
     let path = path.as_ref();
-    let io = |e: std::io::Error| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0);
-    let file = File::open(path).map_err(io)?;
-    let len = file.metadata().map_err(io)?.len();
-    // Ranges smaller than this are not worth a thread.
-    const MIN_RANGE: u64 = 4 << 20;
-    let threads = threads.clamp(1, 64).min((len / MIN_RANGE).max(1) as usize);
-    if threads == 1 {
-        return load_columns(file);
-    }
-    let ends: Vec<u64> = (1..threads as u64)
-        .map(|k| len / threads as u64 * k)
-        .chain([u64::MAX])
-        .collect();
-    load_ranges(path, &ends)
+    let len = std::fs::metadata(path).map_err(io_error(path))?.len();
+    // Files smaller than this per thread are not worth more threads.
+    const MIN_SHARE: u64 = 4 << 20;
+    let threads = threads.clamp(1, 64).min((len / MIN_SHARE).max(1) as usize);
+    load_shared(path, len, threads, (len / 50).max(1 << 20))
 }
 
-/// Loads the byte ranges ending at `ends` (the last one `u64::MAX`) on a thread each,
-/// and joins them.
-fn load_ranges(path: &Path, ends: &[u64]) -> Result<LoadedColumns> {
-    let io = |e: std::io::Error| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0);
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+    move |e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0)
+}
+
+/// Which thread fills which subscription's columns. Every thread keeps its own copy
+/// and, seeing the same subscriptions in the same order, takes the same decisions.
+#[derive(Clone)]
+struct Shares {
+    owner: Vec<Option<usize>>,
+    load: Vec<u64>,
+    /// The weight given to a subscription first met after the sample.
+    typical: u64,
+}
+
+impl Shares {
+    /// Shares balanced by the payload bytes of each subscription in the sample,
+    /// largest first, each to the least loaded share.
+    fn new(bytes: &[u64], threads: usize) -> Shares {
+        let mut shares = Shares {
+            owner: vec![None; bytes.len()],
+            load: vec![0; threads],
+            typical: 0,
+        };
+        let mut order: Vec<usize> = (0..bytes.len()).collect();
+        order.sort_by_key(|&i| (core::cmp::Reverse(bytes[i]), i));
+        for i in order {
+            shares.assign(i, bytes[i]);
+        }
+        let total: u64 = bytes.iter().sum();
+        shares.typical = total / bytes.len().max(1) as u64;
+        shares
+    }
+
+    fn assign(&mut self, sub: usize, weight: u64) -> usize {
+        let least = (0..self.load.len())
+            .min_by_key(|&k| (self.load[k], k))
+            .expect("at least one share");
+        self.load[least] += weight;
+        if sub >= self.owner.len() {
+            self.owner.resize(sub + 1, None);
+        }
+        self.owner[sub] = Some(least);
+        least
+    }
+
+    #[inline]
+    fn owner(&mut self, sub: usize) -> usize {
+        match self.owner.get(sub) {
+            Some(&Some(k)) => k,
+            _ => self.assign(sub, self.typical),
+        }
+    }
+}
+
+/// Loads on `threads` threads, the shares balanced on the file's first `sample`
+/// bytes.
+fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<LoadedColumns> {
+    let io = io_error(path);
+    if threads <= 1 {
+        let mut tables = Tables::new(0, len);
+        let summary = scan_range(File::open(path).map_err(io)?, u64::MAX, |r| tables.push(&r))?;
+        return Ok(finish(summary, vec![tables]));
+    }
+    let mut bytes: Vec<u64> = Vec::new();
+    scan_range(File::open(path).map_err(io)?, sample, |r| {
+        if r.offset < sample {
+            if r.subscription >= bytes.len() {
+                bytes.resize(r.subscription + 1, 0);
+            }
+            bytes[r.subscription] += r.payload.len() as u64 + 5;
+        }
+    })?;
+    let shares = Shares::new(&bytes, threads);
     let results: Vec<Result<(ScanSummary, Tables)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = ends
-            .iter()
-            .enumerate()
-            .map(|(k, &end)| {
-                let start = if k == 0 { 0 } else { ends[k - 1] };
+        let handles: Vec<_> = (0..threads)
+            .map(|k| {
+                let mut shares = shares.clone();
                 s.spawn(move || {
                     let file = File::open(path).map_err(io)?;
-                    let mut tables = Tables::default();
-                    let summary = scan_range(file, end, |r| {
-                        if r.offset >= start && r.offset < end {
+                    let mut tables = Tables::new(0, len);
+                    let summary = scan_range(file, u64::MAX, |r| {
+                        if shares.owner(r.subscription) == k {
                             tables.push(&r);
                         }
                     })?;
@@ -173,16 +254,15 @@ fn load_ranges(path: &Path, ends: &[u64]) -> Result<LoadedColumns> {
             .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
             .collect()
     });
-    let mut ranges = Vec::with_capacity(results.len());
-    let mut last = None;
+    let mut shared = Vec::with_capacity(threads);
+    let mut summary = None;
     for r in results {
-        let (summary, tables) = r?;
-        ranges.push(tables);
-        last = Some(summary);
+        let (s, tables) = r?;
+        shared.push(tables);
+        // Every thread framed the whole file.
+        summary.get_or_insert(s);
     }
-    // The last range's scan framed the whole file.
-    let summary = last.expect("at least one range");
-    Ok(finish(summary, ranges))
+    Ok(finish(summary.expect("at least one thread"), shared))
 }
 
 #[cfg(test)]
@@ -266,14 +346,16 @@ mod tests {
             // join into the same columns and findings.
             let path = temp_file(&bytes);
             let len = bytes.len() as u64;
-            for cuts in [
-                vec![len / 2],
-                vec![1, 17, len / 3, len / 3 + 1, len - 1],
-                vec![len / 7, 2 * len / 7, 3 * len / 7, 5 * len / 7],
-            ] {
-                let ends: Vec<u64> = cuts.into_iter().chain([u64::MAX]).collect();
-                let ranged = load_ranges(&path, &ends).unwrap();
-                same(&ranged, &one, &format!("{name}: ranges ending at {ends:?}"));
+            // Shares balanced on samples of every size (none: every topic is first met
+            // after it) give the same columns and findings.
+            let len = bytes.len() as u64;
+            for (threads, sample) in [(2, 0), (2, len / 3), (3, 17), (2, len), (1, 0)] {
+                let shared = load_shared(&path, len, threads, sample).unwrap();
+                same(
+                    &shared,
+                    &one,
+                    &format!("{name}: {threads} threads, sample {sample}"),
+                );
                 checked += 1;
             }
             std::fs::remove_file(&path).unwrap();

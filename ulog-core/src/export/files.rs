@@ -85,16 +85,17 @@ pub fn write_parquet(log: &ULog<'_>, dir: &Path, options: &Options) -> Result<Ex
 }
 
 /// [`write_parquet`], calling `written` after each Parquet file is written (to show
-/// progress).
+/// progress; with [`Options::threads`] above 1, from the thread that wrote it, in the
+/// order the files are done).
 pub fn write_parquet_with(
     log: &ULog<'_>,
     dir: &Path,
     options: &Options,
-    mut written: impl FnMut(&Written),
+    written: impl FnMut(&Written) + Send,
 ) -> Result<Export> {
     let topics = selected_topics(log, options)?;
     std::fs::create_dir_all(dir).map_err(|e| io_error(dir, &e))?;
-    let mut files = Vec::with_capacity(topics.len());
+    let mut jobs = Vec::with_capacity(topics.len());
     let mut skipped = Vec::new();
     let mut names = std::collections::HashSet::new();
     for topic in &topics {
@@ -119,10 +120,9 @@ pub fn write_parquet_with(
             );
             names.insert(name.clone());
         }
-        let file = write_table(topic, &table, &dir.join(name), options)?;
-        written(&file);
-        files.push(file);
+        jobs.push((topic, table, dir.join(name)));
     }
+    let files = write_tables(&jobs, options, written)?;
     let metadata = dir.join(METADATA_FILE);
     write_metadata(log, &metadata)?;
     Ok(Export {
@@ -130,6 +130,65 @@ pub fn write_parquet_with(
         skipped,
         metadata,
     })
+}
+
+/// Writes the tables of `jobs` on up to [`Options::threads`] threads, largest topics
+/// first; the files come back in the order of `jobs`. The first failure (in that
+/// order) is returned; no new file is started after a failure.
+fn write_tables(
+    jobs: &[(&Topic<'_, '_>, TopicTable, PathBuf)],
+    options: &Options,
+    written: impl FnMut(&Written) + Send,
+) -> Result<Vec<Written>> {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    use std::sync::Mutex;
+
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| {
+        let (topic, ..) = &jobs[i];
+        let row = topic.layout().map_or(0, |l| l.size());
+        core::cmp::Reverse(topic.len() * (row + 16))
+    });
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let written = Mutex::new(written);
+    let results: Mutex<Vec<Option<Result<Written>>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    let work = || loop {
+        if failed.load(Ordering::Relaxed) {
+            break;
+        }
+        let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+            break;
+        };
+        let (topic, table, path) = &jobs[i];
+        let result = write_table(topic, table, path, options);
+        match &result {
+            Ok(file) => (written.lock().unwrap_or_else(|p| p.into_inner()))(file),
+            Err(_) => failed.store(true, Ordering::Relaxed),
+        }
+        results.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(result);
+    };
+    let threads = options.threads.clamp(1, jobs.len().max(1));
+    if threads == 1 {
+        work();
+    } else {
+        std::thread::scope(|s| {
+            for _ in 0..threads {
+                s.spawn(work);
+            }
+        });
+    }
+    let mut files = Vec::with_capacity(jobs.len());
+    for result in results.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        match result {
+            Some(Ok(file)) => files.push(file),
+            Some(Err(e)) => return Err(e),
+            // Not started after another file failed: that failure is returned.
+            None => {}
+        }
+    }
+    Ok(files)
 }
 
 /// Writes the rows of one topic instance to a Parquet file at `path` (replaced if it

@@ -91,6 +91,9 @@ pub struct Options {
     /// Rows per record batch when writing (bounds the memory used per topic); at
     /// least 1.
     pub batch_rows: usize,
+    /// Threads writing topics at once (`0` or `1`: on the calling thread). The files
+    /// are the same whatever the number.
+    pub threads: usize,
 }
 
 impl Default for Options {
@@ -100,6 +103,7 @@ impl Default for Options {
             topics: None,
             compression: Compression::Snappy,
             batch_rows: 65_536,
+            threads: 1,
         }
     }
 }

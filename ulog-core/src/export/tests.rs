@@ -489,3 +489,63 @@ fn metadata_escapes_text_and_keeps_odd_values() {
     let json: serde_json::Value = serde_json::from_str(&metadata_json(&log)).unwrap();
     assert_eq!(json["info"]["quote"], "a\"b\\\n");
 }
+
+#[test]
+fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let read_dir = |dir: &std::path::Path| {
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| {
+                let p = e.unwrap().path();
+                (p.display().to_string(), std::fs::read(&p).unwrap())
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let one = scratch("threads-1");
+    let expected = write_parquet(&log, &one, &Options::default()).unwrap();
+    assert!(expected.files.len() >= 3, "{:?}", expected.files);
+    for threads in [2, 3, 64] {
+        let dir = scratch(&format!("threads-{threads}"));
+        let mut reported = Vec::new();
+        let options = Options {
+            threads,
+            ..Options::default()
+        };
+        let export =
+            write_parquet_with(&log, &dir, &options, |w| reported.push(w.clone())).unwrap();
+        let relative =
+            |files: &[Written], root: &std::path::Path| -> Vec<(String, u8, PathBuf, usize)> {
+                files
+                    .iter()
+                    .map(|w| {
+                        (
+                            w.topic.clone(),
+                            w.multi_id,
+                            w.path.strip_prefix(root).unwrap().to_owned(),
+                            w.rows,
+                        )
+                    })
+                    .collect()
+            };
+        assert_eq!(
+            relative(&export.files, &dir),
+            relative(&expected.files, &one)
+        );
+        // Every file reported once, whatever the order they were done in.
+        reported.sort_by(|a, b| a.path.cmp(&b.path));
+        let mut files = export.files.clone();
+        files.sort_by(|a, b| a.path.cmp(&b.path));
+        assert_eq!(reported, files);
+        let (a, b) = (read_dir(&one), read_dir(&dir));
+        assert_eq!(a.len(), b.len());
+        for ((_, x), (_, y)) in a.iter().zip(&b) {
+            assert!(x == y, "{threads} threads: a file differs");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    std::fs::remove_dir_all(&one).unwrap();
+}
