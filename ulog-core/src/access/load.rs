@@ -342,10 +342,7 @@ mod tests {
             }
             assert_eq!(one.summary.messages, log.message_count(), "{name}");
             assert_eq!(one.summary.findings, log.findings(), "{name}");
-            // Byte ranges cut anywhere (inside messages, damaged stretches, headers)
-            // join into the same columns and findings.
             let path = temp_file(&bytes);
-            let len = bytes.len() as u64;
             // Shares balanced on samples of every size (none: every topic is first met
             // after it) give the same columns and findings.
             let len = bytes.len() as u64;
