@@ -170,7 +170,9 @@ pub struct ULog<'a> {
 
 struct Builder<'a> {
     log: ULog<'a>,
-    unwrap: Vec<Unwrapper>,
+    /// Per subscription, what each data message updates: its offsets (moved into
+    /// the subscription at the end) and its timestamp unwrapper.
+    hot: Vec<(Vec<u64>, Unwrapper)>,
     multi_by_name: HashMap<String, usize>,
 }
 
@@ -206,7 +208,7 @@ impl<'a> ULog<'a> {
                 last_timestamp: 0,
                 message_count: 0,
             },
-            unwrap: Vec::new(),
+            hot: Vec::new(),
             multi_by_name: HashMap::new(),
         };
         let mut started = false;
@@ -229,6 +231,9 @@ impl<'a> ULog<'a> {
             }
         }
         let mut log = b.log;
+        for (sub, (records, _)) in log.subscriptions.iter_mut().zip(b.hot) {
+            sub.records = records;
+        }
         log.flag_bits = framer.flag_bits;
         log.formats = Arc::try_unwrap(std::mem::take(&mut framer.formats))
             .unwrap_or_else(|shared| (*shared).clone());
@@ -246,12 +251,12 @@ impl<'a> ULog<'a> {
 impl<'a> Builder<'a> {
     /// A data message of subscription `sub` (already mirrored: subscriptions only
     /// appear through [`Builder::record`]); `payload` starts with the msg_id.
-    #[inline]
+    #[inline(always)]
     fn data(&mut self, offset: u64, sub: u32, payload: &[u8]) {
         self.log.message_count += 1;
-        let i = sub as usize;
-        self.log.subscriptions[i].records.push(offset);
-        if let Some(ts) = self.unwrap[i].push(&payload[2..]) {
+        let (records, unwrap) = &mut self.hot[sub as usize];
+        records.push(offset);
+        if let Some(ts) = unwrap.push(&payload[2..]) {
             self.log.last_timestamp = self.log.last_timestamp.max(ts);
         }
     }
@@ -264,7 +269,7 @@ impl<'a> Builder<'a> {
         while self.log.subscriptions.len() < framer.subs.len() {
             let def = &framer.subs[self.log.subscriptions.len()];
             let timestamp = def.layout.as_ref().ok().and_then(|l| TimestampField::of(l));
-            self.unwrap.push(Unwrapper::new(timestamp));
+            self.hot.push((Vec::new(), Unwrapper::new(timestamp)));
             self.log.subscriptions.push(Subscription {
                 msg_id: def.msg_id,
                 multi_id: def.multi_id,
