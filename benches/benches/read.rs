@@ -1,6 +1,7 @@
 //! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
-//! of every field of every data message, streaming and from the parsed index; and the
-//! columnar load on one and two threads. The whole-process versions of these, beside
+//! of every field of every data message: message by message (`StreamReader`), in
+//! one pass (`scan_reader`) and from the parsed index; and the columnar load in one
+//! pass (`load_columns`) and from the index on one and two threads. The whole-process versions of these, beside
 //! the peers, are in `bench/run`.
 //!
 //! ```text
@@ -81,6 +82,27 @@ fn decode_stream(bytes: &[u8]) -> f64 {
     sum
 }
 
+/// Every field of every data message in one pass (`scan_reader`), leaves resolved at
+/// each subscription's first record.
+fn decode_scan(bytes: &[u8]) -> f64 {
+    let mut readers: Vec<Option<Option<Vec<FieldReader>>>> = Vec::new();
+    let mut sum = 0.0;
+    ulog_core::scan_reader(bytes, |r| {
+        if r.subscription >= readers.len() {
+            readers.resize(r.subscription + 1, None);
+        }
+        let columns = readers[r.subscription]
+            .get_or_insert_with(|| r.layout.map(|l| FieldReader::columns_of(l)));
+        for c in columns.iter().flatten() {
+            if let Some(v) = c.read(r.payload) {
+                add(&mut sum, v);
+            }
+        }
+    })
+    .expect("reads");
+    sum
+}
+
 /// Every field of every data message through the parsed index and field readers.
 fn decode_index(log: &ULog<'_>) -> f64 {
     let mut sum = 0.0;
@@ -117,14 +139,25 @@ fn main() {
                 .message_count()
         })
     });
-    group.bench_function("generic decode (stream)", |b| {
+    group.bench_function("generic decode (StreamReader)", |b| {
         b.iter(|| decode_stream(black_box(&bytes)))
+    });
+    group.bench_function("generic decode (scan_reader)", |b| {
+        b.iter(|| decode_scan(black_box(&bytes)))
     });
     group.bench_function("generic decode (parsed index)", |b| {
         b.iter(|| decode_index(black_box(&log)))
     });
+    group.bench_function("columnar load (one pass, load_columns)", |b| {
+        b.iter(|| {
+            ulog_core::load_columns(black_box(&bytes[..]))
+                .expect("loads")
+                .topics
+                .len()
+        })
+    });
     for threads in [1, 2] {
-        group.bench_function(format!("columnar load ({threads} thread)"), |b| {
+        group.bench_function(format!("columnar load (index, {threads} thread)"), |b| {
             b.iter(|| black_box(&log).load_all_columns(threads).len())
         });
     }
