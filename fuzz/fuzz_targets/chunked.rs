@@ -1,9 +1,33 @@
 //! The incremental reader fed arbitrary bytes in chunks of sizes chosen by the input:
-//! its messages and findings must equal the whole-file reader's.
+//! its messages and findings must equal the whole-file reader's. The one-pass scans
+//! (`scan` over the bytes, `scan_reader` over reads of those sizes) must hand out
+//! exactly its data messages, with the same findings.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use std::io::Read;
+
 use ulog_core::{Incremental, Messages, Status};
+
+/// Reads of the sizes the input chose.
+struct Pieces<'a> {
+    data: &'a [u8],
+    sizes: &'a [u16],
+    i: usize,
+}
+
+impl Read for Pieces<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = (self.sizes.get(self.i).copied().unwrap_or(4096) as usize)
+            .clamp(1, buf.len().max(1))
+            .min(self.data.len())
+            .min(buf.len());
+        self.i += 1;
+        buf[..n].copy_from_slice(&self.data[..n]);
+        self.data = &self.data[n..];
+        Ok(n)
+    }
+}
 
 fuzz_target!(|input: (Vec<u16>, &[u8])| {
     let (sizes, data) = input;
@@ -42,12 +66,33 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         }
         assert!(inc.buffered() <= 3 * 65538 + 65536);
     }
+    let mut scanned = Vec::new();
+    let scan = ulog_core::scan(data, |r| scanned.push(r.offset));
+    let mut read = Vec::new();
+    let pieces = Pieces {
+        data,
+        sizes: &sizes,
+        i: 0,
+    };
+    let scan_read = ulog_core::scan_reader(pieces, |r| read.push(r.offset));
     match (expected, result) {
         (Ok(e), Ok(())) => {
             assert_eq!(e, got);
             assert_eq!(whole.findings(), inc.findings());
+            let data_offsets: Vec<u64> =
+                e.iter().filter(|m| m.1 == b'D').map(|m| m.0).collect();
+            let (scan, scan_read) = (scan.unwrap(), scan_read.unwrap());
+            assert_eq!(scanned, data_offsets);
+            assert_eq!(read, data_offsets);
+            assert_eq!(scan.findings, whole.findings());
+            assert_eq!(scan, scan_read);
+            assert_eq!(scan.messages as usize, e.len());
         }
-        (Err(a), Err(b)) => assert_eq!(a, b),
+        (Err(a), Err(b)) => {
+            assert_eq!(a, b);
+            assert_eq!(scan.unwrap_err(), a);
+            assert_eq!(scan_read.unwrap_err(), a);
+        }
         (a, b) => panic!("whole {a:?} vs incremental {b:?}"),
     }
 });

@@ -248,6 +248,23 @@ impl<'a> ULog<'a> {
     }
 }
 
+/// Makes room in a full offset vector for the rows the rest of the file (`len`
+/// bytes) will likely add, judged by the rate so far at `offset`, so that a large
+/// vector grows by one reallocation rather than by doublings that copy it.
+#[cold]
+fn reserve_for_rest(records: &mut Vec<u64>, offset: u64, len: usize) {
+    let rows = records.len();
+    let estimate = if offset >= 1 << 20 {
+        let whole = rows as u128 * len as u128 / u128::from(offset);
+        usize::try_from(whole + whole / 8).unwrap_or(0)
+    } else {
+        0
+    };
+    // At least double, as `push` would.
+    let target = estimate.max(rows * 2).max(16);
+    records.reserve_exact(target - rows);
+}
+
 impl<'a> Builder<'a> {
     /// A data message of subscription `sub` (already mirrored: subscriptions only
     /// appear through [`Builder::record`]); `payload` starts with the msg_id.
@@ -255,6 +272,9 @@ impl<'a> Builder<'a> {
     fn data(&mut self, offset: u64, sub: u32, payload: &[u8]) {
         self.log.message_count += 1;
         let (records, unwrap) = &mut self.hot[sub as usize];
+        if records.len() == records.capacity() {
+            reserve_for_rest(records, offset, self.log.data.len());
+        }
         records.push(offset);
         if let Some(ts) = unwrap.push(&payload[2..]) {
             self.log.last_timestamp = self.log.last_timestamp.max(ts);
