@@ -139,7 +139,7 @@ pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
 /// Every topic's columns of the file at `path`, read on up to `threads` threads
 /// (`0` or `1`: on this one): the same result as [`load_columns`]. Each thread reads
 /// the whole file and fills the columns of its share of the topics; the shares are
-/// balanced by how many payload bytes each topic has in the first 2% of the file.
+/// balanced by how many values each topic has in the first 2% of the file.
 ///
 /// ```no_run
 /// let loaded = ulog_core::load_file_columns("flight.ulg", 2)?;
@@ -174,7 +174,7 @@ struct Shares {
 }
 
 impl Shares {
-    /// Shares balanced by the payload bytes of each subscription in the sample,
+    /// Shares balanced by the work of each subscription in the sample,
     /// largest first, each to the least loaded share.
     fn new(bytes: &[u64], threads: usize) -> Shares {
         let mut shares = Shares {
@@ -222,16 +222,23 @@ fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<Loa
         let summary = scan_range(File::open(path).map_err(io)?, u64::MAX, |r| tables.push(&r))?;
         return Ok(finish(summary, vec![tables]));
     }
-    let mut bytes: Vec<u64> = Vec::new();
+    // The work of a row is about one unit per column value plus the copy of the row.
+    let mut work: Vec<u64> = Vec::new();
+    let mut per_row: Vec<u64> = Vec::new();
     scan_range(File::open(path).map_err(io)?, sample, |r| {
         if r.offset < sample {
-            if r.subscription >= bytes.len() {
-                bytes.resize(r.subscription + 1, 0);
+            if r.subscription >= work.len() {
+                work.resize(r.subscription + 1, 0);
+                per_row.resize(r.subscription + 1, 0);
             }
-            bytes[r.subscription] += r.payload.len() as u64 + 5;
+            if per_row[r.subscription] == 0 {
+                let columns = r.layout.map_or(0, |l| l.columns().count()) as u64;
+                per_row[r.subscription] = 8 + 8 * columns + r.payload.len() as u64 / 4;
+            }
+            work[r.subscription] += per_row[r.subscription];
         }
     })?;
-    let shares = Shares::new(&bytes, threads);
+    let shares = Shares::new(&work, threads);
     let results: Vec<Result<(ScanSummary, Tables)>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|k| {
