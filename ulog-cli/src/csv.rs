@@ -2,7 +2,10 @@
 
 use std::fs::File;
 use std::io::{self, Write};
+use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 use ulog_core::format::BasicType;
 use ulog_core::{FieldShape, Topic};
@@ -10,7 +13,7 @@ use ulog_core::{FieldShape, Topic};
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
 use crate::progress::Progress;
-use crate::pyfmt::{write_i64, write_numpy_f32, write_numpy_f64, write_u64};
+use crate::pyfmt::{format_i64, format_numpy_f32, format_numpy_f64, format_u64, NUM_LEN};
 
 /// Write every topic instance with data to `<file stem>_<topic>_<multi_id>.csv`
 /// (`/` in a topic name becomes `_`), exactly as pyulog's `ulog2csv` does: `timestamp`
@@ -21,6 +24,8 @@ use crate::pyfmt::{write_i64, write_numpy_f32, write_numpy_f64, write_u64};
 ///
 /// Differences from ulog2csv: data messages that this reader recovers after corruption
 /// (pyulog resynchronises later) are written; an unknown topic in `-m` is an error.
+/// Several files are written at the same time (`-j`); the `Writing` lines all come
+/// first, in name order.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The ULog file.
@@ -47,12 +52,30 @@ pub struct Args {
     /// absent: to the end).
     #[arg(long = "time-end", visible_alias = "time_e", value_name = "S")]
     time_end: Option<f64>,
+    /// Files written at the same time (default: the number of CPUs).
+    #[arg(short = 'j', long = "jobs", value_name = "N")]
+    jobs: Option<NonZeroUsize>,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
+    let threads = args
+        .jobs
+        .map(NonZeroUsize::get)
+        .or_else(|| {
+            std::thread::available_parallelism()
+                .ok()
+                .map(NonZeroUsize::get)
+        })
+        .unwrap_or(1);
+    let log = std::thread::scope(|s| {
+        // Worth a thread for large logs only.
+        if threads > 1 && file.bytes().len() >= 1 << 24 {
+            s.spawn(|| map_pages(file.bytes()));
+        }
+        input::parse(&name, file.bytes())
+    })?;
 
     let mut topics: Vec<Topic<'_, '_>> = log.topics().filter(|t| !t.is_empty()).collect();
     if let Some(list) = &args.messages {
@@ -61,19 +84,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     topics.sort_by(|a, b| (a.name(), a.multi_id()).cmp(&(b.name(), b.multi_id())));
 
+    // The files to write, announced in name order before any is written.
     let prefix = output_prefix(&name, args.output.as_deref())?;
     let stdout = io::stdout();
     let mut out = stdout.lock();
-    let mut buf = Vec::with_capacity(1 << 17);
-    let mut scratch = String::with_capacity(64);
-    let range = TimeRange {
-        start: args.time_start,
-        end: args.time_end,
-    };
-    let rows: usize = topics.iter().map(|t| t.len()).sum();
-    let progress = Progress::new(rows as u64, "csv rows");
+    let mut jobs = Vec::with_capacity(topics.len());
     for topic in topics {
-        progress.message(topic.name().to_owned());
         let path = format!(
             "{prefix}_{}_{}.csv",
             topic.name().replace('/', "_"),
@@ -82,6 +98,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let columns = match columns(&topic) {
             Ok(c) => c,
             Err(e) => {
+                out.flush().map_err(stdout_err)?;
                 let _ = writeln!(
                     io::stderr(),
                     "ulog: {name}: topic `{}` ({}) cannot be decoded, skipped: {}",
@@ -93,20 +110,93 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             }
         };
         writeln!(out, "Writing {path} ({} data points)", topic.len()).map_err(stdout_err)?;
-        let mut file = File::create(&path).map_err(|e| Failure::unreadable(&path, io_text(&e)))?;
-        write_topic(
-            &mut file,
-            &topic,
-            &columns,
-            args.delimiter.as_bytes(),
-            range,
-            &mut buf,
-            &mut scratch,
-        )
-        .map_err(|e| Failure::unreadable(&path, io_text(&e)))?;
-        progress.inc(topic.len() as u64);
+        jobs.push(Job {
+            topic,
+            columns,
+            path,
+        });
     }
-    out.flush().map_err(stdout_err)
+    out.flush().map_err(stdout_err)?;
+    drop(out);
+
+    let range = TimeRange {
+        start: args.time_start,
+        end: args.time_end,
+    };
+    let rows: usize = jobs.iter().map(|j| j.topic.len()).sum();
+    let progress = Progress::new(rows as u64, "csv rows");
+    let threads = threads.min(jobs.len()).max(1);
+    // The largest topics first, so that the threads end together.
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| core::cmp::Reverse(jobs[i].cost()));
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let failures: Mutex<Vec<(usize, Failure)>> = Mutex::new(Vec::new());
+    let work = || {
+        let mut buf = Vec::new();
+        while !failed.load(Ordering::Relaxed) {
+            let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                break;
+            };
+            let job = &jobs[i];
+            progress.message(job.topic.name().to_owned());
+            let written = write_topic(
+                log.data(),
+                job,
+                args.delimiter.as_bytes(),
+                range,
+                &mut buf,
+                &progress,
+            );
+            if let Err(e) = written {
+                let failure = Failure::unreadable(&job.path, io_text(&e));
+                failures
+                    .lock()
+                    .expect("no thread panicked holding it")
+                    .push((i, failure));
+                failed.store(true, Ordering::Relaxed);
+            }
+        }
+    };
+    std::thread::scope(|s| {
+        for _ in 1..threads {
+            s.spawn(work);
+        }
+        work();
+    });
+    drop(progress);
+    let failures = failures
+        .into_inner()
+        .expect("no thread panicked holding it");
+    // The error of the first file in name order, as when they are written one by one.
+    match failures.into_iter().min_by_key(|(i, _)| *i) {
+        Some((_, failure)) => Err(failure),
+        None => Ok(()),
+    }
+}
+
+/// One CSV file to write.
+struct Job<'l, 'a> {
+    topic: Topic<'l, 'a>,
+    columns: Vec<Column>,
+    path: String,
+}
+
+impl Job<'_, '_> {
+    /// A measure of the work: the number of values to print.
+    fn cost(&self) -> usize {
+        self.topic.len() * (self.columns.len() + 1)
+    }
+}
+
+/// Reads one byte of each page of `bytes`: run on another core while the log is parsed,
+/// the page faults of a mapped file are taken here rather than by the parser.
+fn map_pages(bytes: &[u8]) {
+    let mut x = 0u8;
+    for &b in bytes.iter().step_by(4096) {
+        x ^= b;
+    }
+    std::hint::black_box(x);
 }
 
 /// The path prefix of the output files: FILE without `.ulg` (any case), in DIR when
@@ -132,16 +222,33 @@ fn output_prefix(name: &str, dir: Option<&Path>) -> Result<String, Failure> {
     Ok(dir.join(base.unwrap_or_default()).display().to_string())
 }
 
-/// How one column is printed.
+/// How one column is printed: the offset of its value in the payload and its type.
 #[derive(Debug, Clone, Copy)]
 enum Cell {
-    Unsigned(usize, BasicType),
-    Signed(usize, BasicType),
+    U8(usize),
+    U16(usize),
+    U32(usize),
+    U64(usize),
+    /// `int8`, and `bool` and a single `char`: pyulog keeps both as `int8`.
+    I8(usize),
+    I16(usize),
+    I32(usize),
+    I64(usize),
     F32(usize),
     F64(usize),
-    /// `bool` and a single `char`: pyulog keeps both as `int8`.
-    Int8(usize),
+    /// `char[n]`: the bytes up to the first NUL.
     Text(usize, usize),
+}
+
+impl Cell {
+    /// The most bytes a value of this column takes in a row buffer: the window a
+    /// number is formatted into, or a text of `n` bytes as UTF-8.
+    fn room(self) -> usize {
+        match self {
+            Cell::Text(_, n) => NUM_LEN.max(2 * n),
+            _ => NUM_LEN,
+        }
+    }
 }
 
 struct Column {
@@ -159,11 +266,14 @@ fn columns(topic: &Topic<'_, '_>) -> ulog_core::Result<Vec<Column>> {
                 (FieldShape::String(n), _) => Cell::Text(off, n),
                 (_, BasicType::Float) => Cell::F32(off),
                 (_, BasicType::Double) => Cell::F64(off),
-                (_, BasicType::Bool | BasicType::Char | BasicType::Int8) => Cell::Int8(off),
-                (_, t @ (BasicType::Int16 | BasicType::Int32 | BasicType::Int64)) => {
-                    Cell::Signed(off, t)
-                }
-                (_, t) => Cell::Unsigned(off, t),
+                (_, BasicType::Bool | BasicType::Char | BasicType::Int8) => Cell::I8(off),
+                (_, BasicType::Int16) => Cell::I16(off),
+                (_, BasicType::Int32) => Cell::I32(off),
+                (_, BasicType::Int64) => Cell::I64(off),
+                (_, BasicType::UInt8) => Cell::U8(off),
+                (_, BasicType::UInt16) => Cell::U16(off),
+                (_, BasicType::UInt32) => Cell::U32(off),
+                (_, BasicType::UInt64) => Cell::U64(off),
             };
             Column {
                 name: f.path().to_owned(),
@@ -208,115 +318,271 @@ impl TimeRange {
     }
 }
 
+/// The size of a worker's row buffer (at least; a few rows of the widest topic).
+const BUF_LEN: usize = 1 << 20;
+
+/// How many rows ahead the payloads are prefetched.
+const AHEAD: usize = 16;
+
+/// Writes the CSV file of `job`, formatting the rows in place in `buf` (a worker's
+/// buffer, reused from topic to topic). `data` is what the log was parsed from.
 fn write_topic(
-    file: &mut File,
-    topic: &Topic<'_, '_>,
-    columns: &[Column],
+    data: &[u8],
+    job: &Job<'_, '_>,
     delim: &[u8],
     range: TimeRange,
     buf: &mut Vec<u8>,
-    scratch: &mut String,
+    progress: &Progress,
 ) -> io::Result<()> {
-    buf.clear();
+    let columns = &job.columns[..];
+    let topic = &job.topic;
+    let mut file = File::create(&job.path)?;
+    let mut header = Vec::new();
     for (i, c) in columns.iter().enumerate() {
         if i > 0 {
-            buf.extend_from_slice(delim);
+            header.extend_from_slice(delim);
         }
-        buf.extend_from_slice(c.name.as_bytes());
+        header.extend_from_slice(c.name.as_bytes());
     }
-    buf.push(b'\n');
+    header.push(b'\n');
+    file.write_all(&header)?;
 
     let rows = if range.start.is_some() || range.end.is_some() {
         let ts: Vec<u64> = match columns.first().filter(|c| c.name == "timestamp") {
-            Some(c) => topic.payloads().map(|p| raw_unsigned(c.cell, p)).collect(),
+            Some(c) => topic.payloads().map(|p| unsigned(c.cell, p)).collect(),
             None => vec![0; topic.len()],
         };
         range.rows(&ts)
     } else {
         0..topic.len()
     };
-    for payload in topic.payloads().skip(rows.start).take(rows.len()) {
-        for (i, c) in columns.iter().enumerate() {
-            if i > 0 {
-                buf.extend_from_slice(delim);
-            }
-            write_cell(buf, scratch, c.cell, payload);
-        }
-        buf.push(b'\n');
-        if buf.len() >= 1 << 16 {
-            file.write_all(buf)?;
-            buf.clear();
-        }
+
+    // Every column has its room in a row, so a row started at or below `limit` fits.
+    let row_room: usize = columns
+        .iter()
+        .map(|c| c.cell.room() + delim.len())
+        .sum::<usize>()
+        + 1;
+    if buf.len() < BUF_LEN.max(4 * row_room) {
+        buf.resize(BUF_LEN.max(4 * row_room), 0);
     }
-    file.write_all(buf)?;
-    buf.clear();
+    let limit = buf.len() - row_room;
+    let mut pos = 0;
+    let mut last = vec![Last::NONE; columns.len()];
+    let mut pending = 0;
+    // The messages of a topic are scattered over the file: each row would wait for
+    // memory (and an address translation) if it were not fetched early.
+    let offsets = &topic.message_offsets()[rows.clone()];
+    let span = MSG_HEADER_LEN + topic.payload(0).map_or(0, |p| p.len());
+    for (k, p) in topic
+        .payloads()
+        .skip(rows.start)
+        .take(rows.len())
+        .enumerate()
+    {
+        if let Some(&o) = offsets.get(k + AHEAD) {
+            prefetch(data, o as usize, span);
+        }
+        if pos > limit {
+            file.write_all(&buf[..pos])?;
+            pos = 0;
+            last.fill(Last::NONE);
+            progress.inc(pending);
+            pending = 0;
+        }
+        pos = write_row(buf, pos, p, columns, &mut last, delim);
+        pending += 1;
+    }
+    file.write_all(&buf[..pos])?;
+    progress.inc(pending + (topic.len() - rows.len()) as u64);
     Ok(())
 }
 
-fn bytes<const N: usize>(p: &[u8], off: usize) -> Option<[u8; N]> {
-    p.get(off..off + N).map(|b| b.try_into().expect("N bytes"))
+/// A message's header and msg_id before its payload.
+const MSG_HEADER_LEN: usize = 5;
+
+/// Asks the CPU to fetch `data[at..at + len]` into its cache, without waiting for it;
+/// nothing on other architectures.
+#[inline(always)]
+fn prefetch(data: &[u8], at: usize, len: usize) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let end = (at + len).min(data.len());
+        let base = data.as_ptr();
+        let mut a = at;
+        while a < end {
+            prefetch_line(base.wrapping_add(a));
+            a += 64;
+        }
+        prefetch_line(base.wrapping_add(end.saturating_sub(1)));
+
+        #[inline(always)]
+        #[allow(unused_unsafe)]
+        fn prefetch_line(p: *const u8) {
+            // SAFETY: a prefetch is only a hint: it reads nothing and never faults, even
+            // for an address outside the mapping (none is: `p` is within `data`). The
+            // intrinsic is a safe function from Rust 1.87 on (hence `unused_unsafe`).
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast()) }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (data, at, len);
 }
 
-fn raw_unsigned(cell: Cell, p: &[u8]) -> u64 {
+/// The float last printed in a column and where: when the next row holds the same bits
+/// (sensor topics repeat many values: setpoints, covariances, unused fields), its text
+/// is copied instead of formatted again.
+#[derive(Debug, Clone, Copy)]
+struct Last {
+    bits: u64,
+    /// Where the text starts in the row buffer, `usize::MAX` for none.
+    at: usize,
+    len: usize,
+}
+
+impl Last {
+    const NONE: Last = Last {
+        bits: 0,
+        at: usize::MAX,
+        len: 0,
+    };
+}
+
+/// Formats one row at `buf[pos..]`, which has room for it; returns the end of the row.
+#[inline]
+fn write_row(
+    buf: &mut [u8],
+    mut pos: usize,
+    p: &[u8],
+    columns: &[Column],
+    last: &mut [Last],
+    delim: &[u8],
+) -> usize {
+    for (c, last) in columns.iter().zip(last) {
+        pos = write_cell(buf, pos, c.cell, p, last);
+        if let [d] = delim {
+            buf[pos] = *d;
+            pos += 1;
+        } else {
+            buf[pos..pos + delim.len()].copy_from_slice(delim);
+            pos += delim.len();
+        }
+    }
+    if !columns.is_empty() {
+        // The last delimiter becomes the end of the line.
+        pos -= delim.len();
+    }
+    buf[pos] = b'\n';
+    pos + 1
+}
+
+/// The `N` bytes at `off` of a payload.
+#[inline]
+fn le<const N: usize>(p: &[u8], off: usize) -> Option<[u8; N]> {
+    p.get(off..)?.first_chunk().copied()
+}
+
+/// The value of an unsigned column (the timestamp), 0 for other columns.
+fn unsigned(cell: Cell, p: &[u8]) -> u64 {
     match cell {
-        Cell::Unsigned(off, t) => match t {
-            BasicType::UInt8 => p.get(off).map_or(0, |&b| u64::from(b)),
-            BasicType::UInt16 => bytes(p, off).map_or(0, |b| u64::from(u16::from_le_bytes(b))),
-            BasicType::UInt32 => bytes(p, off).map_or(0, |b| u64::from(u32::from_le_bytes(b))),
-            _ => bytes(p, off).map_or(0, u64::from_le_bytes),
-        },
+        Cell::U8(off) => p.get(off).map_or(0, |&b| u64::from(b)),
+        Cell::U16(off) => le(p, off).map_or(0, |b| u64::from(u16::from_le_bytes(b))),
+        Cell::U32(off) => le(p, off).map_or(0, |b| u64::from(u32::from_le_bytes(b))),
+        Cell::U64(off) => le(p, off).map_or(0, u64::from_le_bytes),
         _ => 0,
     }
 }
 
-/// Appends one value; nothing when the payload is too short for it (which the reader
+/// The window of `buf` a number is formatted into.
+#[inline]
+fn window(buf: &mut [u8], pos: usize) -> &mut [u8; NUM_LEN] {
+    buf[pos..]
+        .first_chunk_mut()
+        .expect("a row has room for a number in each column")
+}
+
+/// Formats a float (its `bits`) at `buf[pos..]` with `format`, or copies its text from
+/// the previous row of the column when that held the same bits; returns its length.
+#[inline]
+fn write_float(
+    buf: &mut [u8],
+    pos: usize,
+    bits: u64,
+    last: &mut Last,
+    format: impl FnOnce(&mut [u8; NUM_LEN]) -> usize,
+) -> usize {
+    let len = if last.bits == bits && last.at != usize::MAX {
+        buf.copy_within(last.at..last.at + NUM_LEN, pos);
+        last.len
+    } else {
+        last.bits = bits;
+        format(window(buf, pos))
+    };
+    last.at = pos;
+    last.len = len;
+    len
+}
+
+/// Formats one value at `buf[pos..]` (which has the column's room); returns its end.
+/// Nothing is written when the payload is too short for the value (which the reader
 /// does not let happen: such messages are skipped).
-fn write_cell(out: &mut Vec<u8>, scratch: &mut String, cell: Cell, p: &[u8]) {
-    match cell {
-        Cell::Unsigned(off, t) => {
-            if p.len() >= off + t.size() {
-                write_u64(out, raw_unsigned(cell, p));
-            }
+#[inline]
+fn write_cell(buf: &mut [u8], pos: usize, cell: Cell, p: &[u8], last: &mut Last) -> usize {
+    let n = match cell {
+        Cell::F32(off) => le(p, off).map_or(0, |b| {
+            let v = f32::from_le_bytes(b);
+            write_float(buf, pos, v.to_bits().into(), last, |out| {
+                format_numpy_f32(v, out)
+            })
+        }),
+        Cell::F64(off) => le(p, off).map_or(0, |b| {
+            let v = f64::from_le_bytes(b);
+            write_float(buf, pos, v.to_bits(), last, |out| format_numpy_f64(v, out))
+        }),
+        Cell::U8(off) => p
+            .get(off)
+            .map_or(0, |&b| format_u64(b.into(), window(buf, pos))),
+        Cell::U16(off) => le(p, off).map_or(0, |b| {
+            format_u64(u16::from_le_bytes(b).into(), window(buf, pos))
+        }),
+        Cell::U32(off) => le(p, off).map_or(0, |b| {
+            format_u64(u32::from_le_bytes(b).into(), window(buf, pos))
+        }),
+        Cell::U64(off) => {
+            le(p, off).map_or(0, |b| format_u64(u64::from_le_bytes(b), window(buf, pos)))
         }
-        Cell::Signed(off, t) => {
-            let v = match t {
-                BasicType::Int16 => bytes(p, off).map(|b| i64::from(i16::from_le_bytes(b))),
-                BasicType::Int32 => bytes(p, off).map(|b| i64::from(i32::from_le_bytes(b))),
-                _ => bytes(p, off).map(i64::from_le_bytes),
-            };
-            if let Some(v) = v {
-                write_i64(out, v);
-            }
-        }
-        Cell::Int8(off) => {
-            if let Some(&b) = p.get(off) {
-                write_i64(out, i64::from(b as i8));
-            }
-        }
-        Cell::F32(off) => {
-            if let Some(b) = bytes(p, off) {
-                write_numpy_f32(out, scratch, f32::from_le_bytes(b));
-            }
-        }
-        Cell::F64(off) => {
-            if let Some(b) = bytes(p, off) {
-                write_numpy_f64(out, scratch, f64::from_le_bytes(b));
-            }
+        Cell::I8(off) => p
+            .get(off)
+            .map_or(0, |&b| format_i64((b as i8).into(), window(buf, pos))),
+        Cell::I16(off) => le(p, off).map_or(0, |b| {
+            format_i64(i16::from_le_bytes(b).into(), window(buf, pos))
+        }),
+        Cell::I32(off) => le(p, off).map_or(0, |b| {
+            format_i64(i32::from_le_bytes(b).into(), window(buf, pos))
+        }),
+        Cell::I64(off) => {
+            le(p, off).map_or(0, |b| format_i64(i64::from_le_bytes(b), window(buf, pos)))
         }
         Cell::Text(off, n) => {
-            if let Some(b) = p.get(off..off + n) {
-                for &c in b.iter().take_while(|&&c| c != 0) {
+            let mut end = pos;
+            if let Some(text) = p.get(off..off + n) {
+                for &c in text.iter().take_while(|&&c| c != 0) {
                     // One character per byte (Latin-1), written as UTF-8.
                     if c < 0x80 {
-                        out.push(c);
+                        buf[end] = c;
+                        end += 1;
                     } else {
-                        out.push(0xc0 | (c >> 6));
-                        out.push(0x80 | (c & 0x3f));
+                        buf[end] = 0xc0 | (c >> 6);
+                        buf[end + 1] = 0x80 | (c & 0x3f);
+                        end += 2;
                     }
                 }
             }
+            return end;
         }
-    }
+    };
+    pos + n
 }
 
 #[cfg(test)]

@@ -3,7 +3,9 @@
 
 use core::fmt::Write as _;
 
-pub use ulog_core::numfmt::{write_i64, write_numpy_f32, write_numpy_f64, write_u64};
+pub use ulog_core::numfmt::{
+    format_i64, format_numpy_f32, format_numpy_f64, format_u64, write_numpy_f64, NUM_LEN,
+};
 use ulog_core::Value;
 
 /// Python's `str()` of the value pyulog decodes for an information or parameter key:
@@ -34,8 +36,7 @@ pub fn py_repr(v: &Value<'_>) -> String {
 /// Python's `repr()` of a float (the same rules as numpy's shortest form).
 pub fn py_float(f: f64) -> String {
     let mut out = Vec::new();
-    let mut scratch = String::new();
-    write_numpy_f64(&mut out, &mut scratch, f);
+    write_numpy_f64(&mut out, f);
     String::from_utf8(out).expect("ascii")
 }
 

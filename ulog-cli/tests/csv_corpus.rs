@@ -175,3 +175,37 @@ fn csv_of_the_sample_matches_its_values() {
     assert!(pos.lines().nth(1).unwrap().ends_with(",1"));
     assert!(dir.join("sample_battery_status_1.csv").exists());
 }
+
+#[test]
+fn parallel_jobs_write_the_same_files_and_announce_them_in_name_order() {
+    let file = common::sample_file("csv_jobs");
+    let dir = file.parent().unwrap();
+    let run = |jobs: &str| {
+        let out = dir.join(format!("j{jobs}"));
+        let stdout = common::ulog_ok([
+            "csv".as_ref(),
+            file.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "-j".as_ref(),
+            jobs.as_ref(),
+        ]);
+        let shown = stdout.replace(&out.display().to_string(), "OUT");
+        (out, shown)
+    };
+    let (one, one_stdout) = run("1");
+    let (many, many_stdout) = run("4");
+    assert_eq!(one_stdout, many_stdout);
+    let written: Vec<&str> = one_stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("Writing OUT/sample_"))
+        .collect();
+    assert!(written.len() > 3, "{one_stdout}");
+    assert!(written.windows(2).all(|w| w[0] < w[1]), "{one_stdout}");
+    assert_eq!(names(&one), names(&many));
+    for name in names(&one) {
+        let a = std::fs::read(one.join(&name)).unwrap();
+        assert!(a.iter().filter(|&&b| b == b'\n').count() > 1, "{name}");
+        assert_eq!(a, std::fs::read(many.join(&name)).unwrap(), "{name}");
+    }
+}

@@ -1,192 +1,259 @@
-//! Numbers as numpy and Python print them (and so pyulog's CSV and scripts), written
-//! into a reused buffer: the shortest digits that read back to the same value, ties
-//! to the even digit, positional or scientific by numpy's bounds.
+//! Numbers as numpy and Python print them (and so pyulog's CSV and scripts): the
+//! shortest digits that read back to the same value, ties to the even digit, positional
+//! or scientific by numpy's bounds.
+//!
+//! The `format_*` functions write into a fixed `[u8; NUM_LEN]` window and return the
+//! length, so that a caller filling a large buffer can hand out a window of it and never
+//! grow a `Vec` per value; the `write_*` functions append to a `Vec`.
 
-use core::fmt::Write as _;
+/// The size of the window the `format_*` functions write into: more than the longest
+/// text they write (`-1.2345678901234567e-308`, 24 bytes; `-9223372036854775808`, 20).
+pub const NUM_LEN: usize = 32;
 
-/// Appends `v` as numpy prints a `float32` scalar: the shortest digits that read back
-/// as the same `f32` (ties between two shortest candidates go to the even digit, as
-/// numpy's Dragon4 does), positional when `1e-4 <= |v| < 1e6` (numpy's bounds for
-/// `float32`, compared as doubles), scientific otherwise. `scratch` is reused between
-/// calls so that no value allocates.
-pub fn write_numpy_f32(out: &mut Vec<u8>, scratch: &mut String, v: f32) {
-    if let Some(special) = special(v.is_nan(), v.is_infinite(), v == 0.0, v.is_sign_negative()) {
-        out.extend_from_slice(special);
-        return;
+/// Writes `v` as numpy prints a `float32` scalar at the start of `out` and returns its
+/// length: the shortest digits that read back as the same `f32` (ties between two
+/// shortest candidates go to the even digit, as numpy's Dragon4 does), positional when
+/// `1e-4 <= |v| < 1e6` (numpy's bounds for `float32`, compared as doubles), scientific
+/// otherwise (`1e-05`, `1.5e+07`).
+///
+/// ```
+/// use ulog_core::numfmt::{format_numpy_f32, NUM_LEN};
+/// let mut out = [0u8; NUM_LEN];
+/// let n = format_numpy_f32(0.1, &mut out);
+/// assert_eq!(&out[..n], b"0.1");
+/// let n = format_numpy_f32(4e6, &mut out);
+/// assert_eq!(&out[..n], b"4e+06");
+/// ```
+pub fn format_numpy_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
+    if !v.is_finite() || v == 0.0 {
+        return special(out, v.is_nan(), v == 0.0, v.is_sign_negative());
     }
-    scratch.clear();
-    let _ = write!(scratch, "{v:e}");
-    let bits = v.to_bits();
-    let (exp_bits, frac) = ((bits >> 23) & 0xff, u64::from(bits & 0x7f_ffff));
-    let (m, q) = if exp_bits == 0 {
-        (frac, -149)
+    // Ryu gives the shortest digits that read back as `v`, the closest to it among
+    // those, an exact tie to the even digit: numpy's digits. Its positional form for
+    // numpy's positional range is numpy's (`100.0`, `0.00012`, `-2.5`).
+    let n = ryu_f32(v, out);
+    if (1e-4..1e6).contains(&f64::from(v.abs())) {
+        n
     } else {
-        (frac | 1 << 23, exp_bits as i32 - 150)
-    };
-    let abs = f64::from(v.abs());
-    let positional = (1e-4..1e6).contains(&abs);
-    let tie_ok = |s: &str| s.parse::<f32>().ok() == Some(v.abs());
-    layout_numpy(out, scratch, m, q, positional, tie_ok);
+        let text = *out;
+        scientific(out, &text[..n])
+    }
 }
 
-/// Appends `v` as numpy prints a `float64` scalar, and Python a float: the same rules
-/// with bounds `1e-4 <= |v| < 1e16`.
-pub fn write_numpy_f64(out: &mut Vec<u8>, scratch: &mut String, v: f64) {
-    if let Some(special) = special(v.is_nan(), v.is_infinite(), v == 0.0, v.is_sign_negative()) {
-        out.extend_from_slice(special);
-        return;
+/// Writes `v` as numpy prints a `float64` scalar, and Python a float: the same rules
+/// as [`format_numpy_f32`] with the bounds `1e-4 <= |v| < 1e16`.
+///
+/// ```
+/// use ulog_core::numfmt::{format_numpy_f64, NUM_LEN};
+/// let mut out = [0u8; NUM_LEN];
+/// let n = format_numpy_f64(1e16, &mut out);
+/// assert_eq!(&out[..n], b"1e+16");
+/// let n = format_numpy_f64(-0.0, &mut out);
+/// assert_eq!(&out[..n], b"-0.0");
+/// ```
+pub fn format_numpy_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
+    if !v.is_finite() || v == 0.0 {
+        return special(out, v.is_nan(), v == 0.0, v.is_sign_negative());
     }
-    scratch.clear();
-    let _ = write!(scratch, "{v:e}");
-    let bits = v.to_bits();
-    let (exp_bits, frac) = ((bits >> 52) & 0x7ff, bits & ((1 << 52) - 1));
-    let (m, q) = if exp_bits == 0 {
-        (frac, -1074)
+    let n = ryu_f64(v, out);
+    if (1e-4..1e16).contains(&v.abs()) {
+        n
     } else {
-        (frac | 1 << 52, exp_bits as i32 - 1075)
-    };
-    let positional = (1e-4..1e16).contains(&v.abs());
-    let tie_ok = |s: &str| s.parse::<f64>().ok() == Some(v.abs());
-    layout_numpy(out, scratch, m, q, positional, tie_ok);
-}
-
-fn special(nan: bool, inf: bool, zero: bool, neg: bool) -> Option<&'static [u8]> {
-    match (nan, inf, zero, neg) {
-        (true, ..) => Some(b"nan"),
-        (_, true, _, true) => Some(b"-inf"),
-        (_, true, _, false) => Some(b"inf"),
-        (_, _, true, true) => Some(b"-0.0"),
-        (_, _, true, false) => Some(b"0.0"),
-        _ => None,
+        let text = *out;
+        scientific(out, &text[..n])
     }
 }
 
-/// Whether `m * 2^q` lies exactly halfway between the decimals `lo * 10^k'` and
-/// `(lo + 1) * 10^k'`, i.e. equals `(10 * lo + 5) * 10^k` with `k = k' - 1`.
-fn is_midpoint(m: u64, q: i32, lo: u64, k: i32) -> bool {
-    if m == 0 {
-        return false;
-    }
-    // Both sides as odd * 2^e: compare the powers of two, then the odd parts.
-    let t = m.trailing_zeros();
-    let (m_odd, q2) = (u128::from(m >> t), q + t as i32);
-    if q2 != k {
-        return false;
-    }
-    let Some(mid) = lo.checked_mul(10).and_then(|x| x.checked_add(5)) else {
-        return false;
-    };
-    let mid = u128::from(mid);
-    let pow5 = |e: u32| 5u128.checked_pow(e);
-    if k >= 0 {
-        pow5(k as u32).and_then(|p| mid.checked_mul(p)) == Some(m_odd)
-    } else {
-        pow5(k.unsigned_abs()).and_then(|p| m_odd.checked_mul(p)) == Some(mid)
-    }
+/// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
+///
+/// Ryu writes straight into `out`: a copy from its own buffer would read back bytes
+/// just stored in pieces, which stalls the copy (this is the hot path of `ulog csv`).
+#[allow(unsafe_code)]
+fn ryu_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
+    debug_assert!(v.is_finite());
+    // SAFETY: `format32` writes at most 16 bytes from the pointer; `out` has NUM_LEN
+    // (32) writable ones. A non-finite value would only print an unspecified number.
+    let n = unsafe { ryu::raw::format32(v, out.as_mut_ptr()) };
+    n.min(NUM_LEN)
 }
 
-/// Lays out Rust's shortest `{:e}` text of `m * 2^q` (`-1.2345e-7`) as numpy does:
-/// positional with at least one fractional digit, or scientific with a signed
-/// two-digit exponent (`1.2345e-07`). Rust breaks a tie between two shortest
-/// candidates upwards; numpy (and Python) take the even one, so an odd last digit at
-/// an exact midpoint is lowered (when the lower candidate reads back the same).
-fn layout_numpy(
-    out: &mut Vec<u8>,
-    sci: &str,
-    m: u64,
-    q: i32,
-    positional: bool,
-    reads_back: impl Fn(&str) -> bool,
-) {
-    let (mantissa, exp) = sci.split_once('e').unwrap_or((sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    let mantissa = match mantissa.strip_prefix('-') {
-        Some(m) => {
-            out.push(b'-');
-            m
-        }
-        None => mantissa,
-    };
-    let mut digits = [0u8; 40];
-    let mut n = 0;
-    for &c in mantissa.as_bytes().iter().filter(|c| c.is_ascii_digit()) {
-        if n < digits.len() {
-            digits[n] = c;
-            n += 1;
-        }
-    }
-    let last = digits[n - 1] - b'0';
-    if last % 2 == 1 && !(n == 1 && last == 1) && n <= 19 {
-        let value: u64 = digits[..n]
-            .iter()
-            .fold(0, |a, &d| a * 10 + u64::from(d - b'0'));
-        let k = exp - n as i32;
-        if is_midpoint(m, q, value - 1, k) {
-            // Rare (exact midpoints only), so this one allocation does not matter.
-            let scaled = format!("{}e{}", value - 1, exp - n as i32 + 1);
-            if reads_back(&scaled) {
-                digits[n - 1] -= 1;
-            }
-        }
-    }
-    let digits = &digits[..n];
-    if positional {
-        if exp >= 0 {
-            let int_len = exp as usize + 1;
-            out.extend_from_slice(&digits[..n.min(int_len)]);
-            out.extend(core::iter::repeat(b'0').take(int_len.saturating_sub(n)));
-            out.push(b'.');
-            if n <= int_len {
-                out.push(b'0');
-            } else {
-                out.extend_from_slice(&digits[int_len..]);
-            }
-        } else {
-            out.extend_from_slice(b"0.");
-            for _ in 0..(-exp - 1) {
-                out.push(b'0');
-            }
-            out.extend_from_slice(digits);
-        }
-    } else {
-        out.push(digits[0]);
-        if n > 1 {
-            out.push(b'.');
-            out.extend_from_slice(&digits[1..]);
-        }
-        out.push(b'e');
-        out.push(if exp < 0 { b'-' } else { b'+' });
-        let e = exp.unsigned_abs();
-        if e < 10 {
-            out.push(b'0');
-        }
-        write_u64(out, u64::from(e));
-    }
+/// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
+#[allow(unsafe_code)]
+fn ryu_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
+    debug_assert!(v.is_finite());
+    // SAFETY: `format64` writes at most 24 bytes from the pointer; `out` has NUM_LEN
+    // (32) writable ones.
+    let n = unsafe { ryu::raw::format64(v, out.as_mut_ptr()) };
+    n.min(NUM_LEN)
 }
 
-/// Appends an unsigned integer in decimal.
-pub fn write_u64(out: &mut Vec<u8>, mut v: u64) -> usize {
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    out.extend_from_slice(&buf[i..]);
-    buf.len() - i
+/// Writes an unsigned integer in decimal at the start of `out`; returns its length.
+///
+/// ```
+/// use ulog_core::numfmt::{format_u64, NUM_LEN};
+/// let mut out = [0u8; NUM_LEN];
+/// let n = format_u64(1_000_042, &mut out);
+/// assert_eq!(&out[..n], b"1000042");
+/// ```
+pub fn format_u64(v: u64, out: &mut [u8; NUM_LEN]) -> usize {
+    put_u64(out, 0, v)
+}
+
+/// Writes a signed integer in decimal at the start of `out`; returns its length.
+pub fn format_i64(v: i64, out: &mut [u8; NUM_LEN]) -> usize {
+    let at = usize::from(v < 0);
+    out[0] = b'-';
+    put_u64(out, at, v.unsigned_abs())
+}
+
+/// Appends `v` as numpy prints a `float32` scalar (see [`format_numpy_f32`]).
+pub fn write_numpy_f32(out: &mut Vec<u8>, v: f32) {
+    let mut text = [0u8; NUM_LEN];
+    let n = format_numpy_f32(v, &mut text);
+    out.extend_from_slice(&text[..n]);
+}
+
+/// Appends `v` as numpy prints a `float64` scalar and Python a float (see
+/// [`format_numpy_f64`]).
+pub fn write_numpy_f64(out: &mut Vec<u8>, v: f64) {
+    let mut text = [0u8; NUM_LEN];
+    let n = format_numpy_f64(v, &mut text);
+    out.extend_from_slice(&text[..n]);
+}
+
+/// Appends an unsigned integer in decimal; returns the number of digits.
+pub fn write_u64(out: &mut Vec<u8>, v: u64) -> usize {
+    let mut text = [0u8; NUM_LEN];
+    let n = format_u64(v, &mut text);
+    out.extend_from_slice(&text[..n]);
+    n
 }
 
 /// Appends a signed integer in decimal.
 pub fn write_i64(out: &mut Vec<u8>, v: i64) {
-    if v < 0 {
-        out.push(b'-');
-    }
-    write_u64(out, v.unsigned_abs());
+    let mut text = [0u8; NUM_LEN];
+    let n = format_i64(v, &mut text);
+    out.extend_from_slice(&text[..n]);
 }
+
+fn special(out: &mut [u8; NUM_LEN], nan: bool, zero: bool, neg: bool) -> usize {
+    let text: &[u8] = match (nan, zero, neg) {
+        (true, ..) => b"nan",
+        (_, true, true) => b"-0.0",
+        (_, true, false) => b"0.0",
+        (_, false, true) => b"-inf",
+        (_, false, false) => b"inf",
+    };
+    out[..text.len()].copy_from_slice(text);
+    text.len()
+}
+
+/// Rewrites Ryu's text of a finite nonzero number (`-1.2345e-7`, `1e30`, `0.00005`,
+/// `123.0`) in numpy's scientific form: the significant digits as `d.ddd`, then `e`, the
+/// exponent's sign and at least two exponent digits (`-1.2345e-07`, `1e+30`, `5e-05`,
+/// `1.23e+02`).
+fn scientific(out: &mut [u8; NUM_LEN], text: &[u8]) -> usize {
+    let (neg, text) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        _ => (false, text),
+    };
+    let (mantissa, exp) = match text.iter().position(|&c| c == b'e') {
+        Some(i) => (&text[..i], parse_exponent(&text[i + 1..])),
+        None => (text, 0),
+    };
+    // The mantissa's digits without the point, and how many came before it.
+    let mut digits = [b'0'; NUM_LEN];
+    let mut n = 0;
+    let mut int_len = None;
+    for &c in mantissa {
+        if c == b'.' {
+            int_len = Some(n);
+        } else if n < NUM_LEN {
+            digits[n] = c;
+            n += 1;
+        }
+    }
+    let int_len = int_len.unwrap_or(n);
+    let lead = digits[..n]
+        .iter()
+        .take_while(|&&d| d == b'0')
+        .count()
+        .min(n.saturating_sub(1));
+    let mut end = n.max(1);
+    while end > lead + 1 && digits[end - 1] == b'0' {
+        end -= 1;
+    }
+    let sig = &digits[lead..end];
+    let e10 = exp + int_len as i32 - 1 - lead as i32;
+
+    let mut i = usize::from(neg);
+    out[0] = b'-';
+    out[i] = sig[0];
+    i += 1;
+    if sig.len() > 1 {
+        out[i] = b'.';
+        out[i + 1..i + sig.len()].copy_from_slice(&sig[1..]);
+        i += sig.len();
+    }
+    out[i] = b'e';
+    out[i + 1] = if e10 < 0 { b'-' } else { b'+' };
+    i += 2;
+    let e = e10.unsigned_abs();
+    if e < 10 {
+        out[i] = b'0';
+        i += 1;
+    }
+    put_u64(out, i, u64::from(e))
+}
+
+/// The value of Ryu's exponent text (`-7`, `30`).
+fn parse_exponent(text: &[u8]) -> i32 {
+    let (neg, digits) = match text.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        _ => (false, text),
+    };
+    let e = digits
+        .iter()
+        .fold(0i32, |a, &d| a * 10 + i32::from(d.wrapping_sub(b'0')));
+    if neg {
+        -e
+    } else {
+        e
+    }
+}
+
+/// Two decimal digits for each number below 100.
+const PAIRS: &[u8; 200] = b"\
+0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
+/// Writes `v` in decimal at `out[at..]`; returns the end of its text.
+#[inline]
+fn put_u64(out: &mut [u8; NUM_LEN], at: usize, v: u64) -> usize {
+    let len = v.checked_ilog10().unwrap_or(0) as usize + 1;
+    let end = at + len;
+    let mut i = end;
+    let mut x = v;
+    while x >= 100 {
+        let r = (x % 100) as usize * 2;
+        x /= 100;
+        i -= 2;
+        out[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    }
+    if x >= 10 {
+        let r = x as usize * 2;
+        out[at..at + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    } else {
+        out[at] = b'0' + x as u8;
+    }
+    end
+}
+
+#[cfg(test)]
+mod oracle;
 
 #[cfg(test)]
 mod tests {
@@ -194,13 +261,13 @@ mod tests {
 
     fn f32s(v: f32) -> String {
         let mut out = Vec::new();
-        write_numpy_f32(&mut out, &mut String::new(), v);
+        write_numpy_f32(&mut out, v);
         String::from_utf8(out).unwrap()
     }
 
     fn f64s(v: f64) -> String {
         let mut out = Vec::new();
-        write_numpy_f64(&mut out, &mut String::new(), v);
+        write_numpy_f64(&mut out, v);
         String::from_utf8(out).unwrap()
     }
 
@@ -239,5 +306,167 @@ mod tests {
         assert_eq!(f64s(2f64.powi(60)), "1.152921504606847e+18");
         assert_eq!(f64s(0.5 + 2f64.powi(-53)), "0.5000000000000001");
         assert_eq!(f64s(-1.25e-100), "-1.25e-100");
+        assert_eq!(f64s(5e-324), "5e-324");
+        assert_eq!(f64s(-f64::MAX), "-1.7976931348623157e+308");
+        assert_eq!(f64s(f64::INFINITY), "inf");
+    }
+
+    #[test]
+    fn integers_print_in_decimal() {
+        let mut cases: Vec<u64> = vec![0, 9, 10, 99, 100, 101, u64::MAX, u64::MAX - 1];
+        for k in 0..20 {
+            let p = 10u64.pow(k);
+            cases.extend([p - 1, p, p + 1, p.saturating_mul(3).saturating_sub(7)]);
+        }
+        let mut out = Vec::new();
+        for v in cases {
+            out.clear();
+            assert_eq!(write_u64(&mut out, v), v.to_string().len());
+            assert_eq!(out, v.to_string().as_bytes());
+            for s in [v as i64, (v as i64).wrapping_neg(), i64::MIN, i64::MAX] {
+                out.clear();
+                write_i64(&mut out, s);
+                assert_eq!(out, s.to_string().as_bytes());
+            }
+        }
+    }
+
+    /// A small deterministic generator (xorshift64*), so failures repeat.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+    }
+
+    /// The significant digits of a number's text (`"-0.00120e+05"` → `"12"`).
+    fn significant(text: &str) -> String {
+        let mantissa = text.split('e').next().unwrap_or_default();
+        let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+        digits.trim_matches('0').to_owned()
+    }
+
+    /// Checks that the new and the old formatter agree on `v`; returns whether this
+    /// was a tie that the old one had to move to the even digit (Rust's shortest
+    /// digits differ from numpy's).
+    fn same_f32(v: f32) -> bool {
+        let mut new = Vec::new();
+        write_numpy_f32(&mut new, v);
+        let mut old = Vec::new();
+        oracle::write_numpy_f32(&mut old, &mut String::new(), v);
+        let new = String::from_utf8(new).unwrap();
+        assert_eq!(
+            new,
+            String::from_utf8(old).unwrap(),
+            "f32 bits {:#010x}",
+            v.to_bits()
+        );
+        v.is_finite() && significant(&new) != significant(&format!("{v:e}"))
+    }
+
+    fn same_f64(v: f64) -> bool {
+        let mut new = Vec::new();
+        write_numpy_f64(&mut new, v);
+        let mut old = Vec::new();
+        oracle::write_numpy_f64(&mut old, &mut String::new(), v);
+        let new = String::from_utf8(new).unwrap();
+        assert_eq!(
+            new,
+            String::from_utf8(old).unwrap(),
+            "f64 bits {:#018x}",
+            v.to_bits()
+        );
+        v.is_finite() && significant(&new) != significant(&format!("{v:e}"))
+    }
+
+    /// Values of the form `n * 2^-j` are exact decimals ending in 5: many of them lie
+    /// exactly halfway between two shortest candidates, where numpy takes the even one.
+    #[test]
+    fn f32_agrees_with_the_old_formatter() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        for _ in 0..400_000 {
+            same_f32(f32::from_bits(rng.next() as u32));
+        }
+        let mut ties = 0;
+        for _ in 0..200_000 {
+            let r = rng.next();
+            let n = (r >> 40) as u32 & 0xff_ffff;
+            let j = (r % 60) as i32 - 20;
+            ties += usize::from(same_f32(n as f32 * 2f32.powi(-j)));
+            ties += usize::from(same_f32(-(n as f32) * 2f32.powi(-j)));
+        }
+        assert!(ties > 100, "only {ties} ties were checked");
+        // Around numpy's bounds, the extremes and subnormals.
+        for edge in [1e-4f32, 1e6, 1e16, f32::MAX, f32::MIN_POSITIVE, 1.0, 0.1] {
+            let b = edge.to_bits();
+            for bits in b.saturating_sub(2000)..b.saturating_add(2000).min(0x7f7f_ffff) {
+                same_f32(f32::from_bits(bits));
+            }
+        }
+        for bits in 1..20_000 {
+            same_f32(f32::from_bits(bits));
+        }
+    }
+
+    #[test]
+    fn f64_agrees_with_the_old_formatter() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut ties = 0;
+        for _ in 0..200_000 {
+            same_f64(f64::from_bits(rng.next()));
+        }
+        for _ in 0..100_000 {
+            let r = rng.next();
+            let n = r >> 11;
+            let j = (rng.next() % 140) as i32 - 40;
+            ties += usize::from(same_f64(n as f64 * 2f64.powi(-j)));
+            // Short decimals, as sensors and parameters hold them.
+            let short = (r % 1_000_000) as f64 * 10f64.powi(j % 20);
+            same_f64(short);
+            same_f64(f64::from(short as f32));
+        }
+        assert!(ties > 100, "only {ties} ties were checked");
+        for edge in [1e-4f64, 1e16, f64::MAX, f64::MIN_POSITIVE, 1.0] {
+            let b = edge.to_bits();
+            for bits in b - 2000..(b + 2000).min(0x7fef_ffff_ffff_ffff) {
+                same_f64(f64::from_bits(bits));
+            }
+        }
+        for bits in 1..20_000 {
+            same_f64(f64::from_bits(bits));
+        }
+    }
+
+    /// Every 16th `f32` bit pattern (268 million values); slow, run with
+    /// `cargo test --release -p ulog-core -- --ignored`.
+    #[test]
+    #[ignore]
+    fn f32_agrees_with_the_old_formatter_on_every_16th_pattern() {
+        std::thread::scope(|s| {
+            for t in 0..4u32 {
+                s.spawn(move || {
+                    let mut new = Vec::new();
+                    let mut old = Vec::new();
+                    let mut scratch = String::new();
+                    let mut bits = t * 16;
+                    loop {
+                        let v = f32::from_bits(bits);
+                        new.clear();
+                        old.clear();
+                        write_numpy_f32(&mut new, v);
+                        oracle::write_numpy_f32(&mut old, &mut scratch, v);
+                        assert_eq!(new, old, "f32 bits {bits:#010x}");
+                        match bits.checked_add(64) {
+                            Some(b) => bits = b,
+                            None => break,
+                        }
+                    }
+                });
+            }
+        });
     }
 }

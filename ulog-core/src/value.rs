@@ -250,17 +250,17 @@ pub struct NumpyFloat<T>(pub T);
 
 impl fmt::Display for NumpyFloat<f32> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut out = Vec::with_capacity(24);
-        crate::numfmt::write_numpy_f32(&mut out, &mut String::new(), self.0);
-        f.write_str(core::str::from_utf8(&out).map_err(|_| fmt::Error)?)
+        let mut text = [0u8; crate::numfmt::NUM_LEN];
+        let n = crate::numfmt::format_numpy_f32(self.0, &mut text);
+        f.write_str(core::str::from_utf8(&text[..n]).map_err(|_| fmt::Error)?)
     }
 }
 
 impl fmt::Display for NumpyFloat<f64> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut out = Vec::with_capacity(32);
-        crate::numfmt::write_numpy_f64(&mut out, &mut String::new(), self.0);
-        f.write_str(core::str::from_utf8(&out).map_err(|_| fmt::Error)?)
+        let mut text = [0u8; crate::numfmt::NUM_LEN];
+        let n = crate::numfmt::format_numpy_f64(self.0, &mut text);
+        f.write_str(core::str::from_utf8(&text[..n]).map_err(|_| fmt::Error)?)
     }
 }
 
