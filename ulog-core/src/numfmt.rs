@@ -65,26 +65,21 @@ pub fn format_numpy_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
 }
 
 /// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
-///
-/// Ryu writes straight into `out`: a copy from its own buffer would read back bytes
-/// just stored in pieces, which stalls the copy (this is the hot path of `ulog csv`).
-#[allow(unsafe_code)]
+#[inline]
 fn ryu_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
-    debug_assert!(v.is_finite());
-    // SAFETY: `format32` writes at most 16 bytes from the pointer; `out` has NUM_LEN
-    // (32) writable ones. A non-finite value would only print an unspecified number.
-    let n = unsafe { ryu::raw::format32(v, out.as_mut_ptr()) };
-    n.min(NUM_LEN)
+    let mut buffer = ryu::Buffer::new();
+    let text = buffer.format_finite(v).as_bytes();
+    out[..text.len()].copy_from_slice(text);
+    text.len()
 }
 
 /// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
-#[allow(unsafe_code)]
+#[inline]
 fn ryu_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
-    debug_assert!(v.is_finite());
-    // SAFETY: `format64` writes at most 24 bytes from the pointer; `out` has NUM_LEN
-    // (32) writable ones.
-    let n = unsafe { ryu::raw::format64(v, out.as_mut_ptr()) };
-    n.min(NUM_LEN)
+    let mut buffer = ryu::Buffer::new();
+    let text = buffer.format_finite(v).as_bytes();
+    out[..text.len()].copy_from_slice(text);
+    text.len()
 }
 
 /// Writes an unsigned integer in decimal at the start of `out`; returns its length.
