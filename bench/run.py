@@ -118,6 +118,18 @@ def smoke_inputs():
     return [("examples/data/reference.ulg", ref)]
 
 
+def settle_page_cache(path):
+    """Drops `path` from the page cache and reads it back sequentially in 1 MiB reads."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        if hasattr(os, "posix_fadvise"):
+            os.posix_fadvise(fd, 0, 0, os.POSIX_FADV_DONTNEED)
+        while os.read(fd, 1 << 20):
+            pass
+    finally:
+        os.close(fd)
+
+
 def have_pyulog():
     try:
         import pyulog  # noqa: F401
@@ -456,8 +468,10 @@ def main():
         "user + system time of the process (less sensitive than wall time to other load on "
         "the machine); *peak RSS*: "
         f"`ru_maxrss` of the process ({'reported by GNU time' if GNU_TIME else 'from wait4, which on Linux includes the Python parent at fork: about 30 MiB too high for small programs'}); *× ours*: the row's time over ours for the "
-        "same workload (for the floor: floor / our framing). The file is in the page cache "
-        "(a warm-up read precedes the runs).",
+        "same workload (for the floor: floor / our framing). Before an input's runs, the file is dropped "
+        "from the page cache and read back whole in 1 MiB reads, so that every program finds it "
+        "cached in the same state (how the kernel holds a cached file changes the cost of "
+        "mapping it).",
         "",
     ]
     if args.smoke:
@@ -471,8 +485,13 @@ def main():
     for label, path in inputs:
         size = os.path.getsize(path)
         log(f"== input {label}: {size / 1e6:.1f} MB")
-        # Warm the page cache, and count the messages (our framing).
-        subprocess.run([bins["floor"], path], stdout=subprocess.DEVNULL, check=True)
+        # The same page-cache state for every input and run: the file is dropped from
+        # the cache and read back whole in large reads (as a copy of the file leaves
+        # it). How the cache holds a file changes the cost of mapping it (in large
+        # folios, the floor's header walk is about 4 times faster than in small
+        # pages), so programs that map the file are only comparable in one state.
+        settle_page_cache(path)
+        # Count the messages (our framing).
         msgs = int(run_once(Program("", "", [bins["ours"], "framing", path]), scratch)[2]["messages"])
         results = []
         for p in programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
