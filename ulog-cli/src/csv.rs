@@ -60,15 +60,7 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
-    let threads = args
-        .jobs
-        .map(NonZeroUsize::get)
-        .or_else(|| {
-            std::thread::available_parallelism()
-                .ok()
-                .map(NonZeroUsize::get)
-        })
-        .unwrap_or(1);
+    let threads = input::threads(args.jobs);
     let log = std::thread::scope(|s| {
         // Worth a thread for large logs only.
         if threads > 1 && file.bytes().len() >= 1 << 24 {

@@ -51,3 +51,9 @@ pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&
     }
     Ok(wanted)
 }
+
+/// The threads a `-j/--jobs` option asks for: its value, else the number of CPUs.
+pub fn threads(jobs: Option<std::num::NonZeroUsize>) -> usize {
+    jobs.or_else(|| std::thread::available_parallelism().ok())
+        .map_or(1, std::num::NonZeroUsize::get)
+}

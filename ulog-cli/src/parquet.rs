@@ -106,15 +106,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
     let total: u64 = jobs.iter().map(|j| j.size).sum();
     let progress = Progress::bytes(total, "parquet");
-    let available = args
-        .jobs
-        .map(NonZeroUsize::get)
-        .or_else(|| {
-            std::thread::available_parallelism()
-                .ok()
-                .map(NonZeroUsize::get)
-        })
-        .unwrap_or(1);
+    let available = input::threads(args.jobs);
     let threads = available.min(jobs.len()).max(1);
     let options = Options {
         threads: if jobs.len() == 1 { available } else { 1 },
