@@ -30,6 +30,7 @@
 
 pub mod access;
 mod error;
+mod estimate;
 #[cfg(feature = "parquet")]
 pub mod export;
 mod finding;

@@ -117,6 +117,28 @@ struct VehicleAttitude {
     q: [f32; 4],
 }
 
+impl SensorCombined {
+    /// Adds the timestamp and every value to the checksum.
+    #[inline]
+    fn add_to(&self, sum: &mut f64) {
+        *sum += self.timestamp as f64;
+        for v in self.gyro_rad.iter().chain(&self.accelerometer_m_s2) {
+            *sum += f64::from(*v);
+        }
+    }
+}
+
+impl VehicleAttitude {
+    /// Adds the timestamp and every value to the checksum.
+    #[inline]
+    fn add_to(&self, sum: &mut f64) {
+        *sum += self.timestamp as f64;
+        for v in &self.q {
+            *sum += f64::from(*v);
+        }
+    }
+}
+
 /// The two topics of the typed workload.
 #[derive(ULogTopics)]
 enum Topics {
@@ -133,18 +155,8 @@ fn typed(path: &str) -> Result<(), Failure> {
         Ok(TopicRecord::Message { message, .. }) => {
             rows += 1;
             match message {
-                Topics::Sensors(r) => {
-                    sum += r.timestamp as f64;
-                    for v in r.gyro_rad.iter().chain(&r.accelerometer_m_s2) {
-                        sum += f64::from(*v);
-                    }
-                }
-                Topics::Attitude(r) => {
-                    sum += r.timestamp as f64;
-                    for v in &r.q {
-                        sum += f64::from(*v);
-                    }
-                }
+                Topics::Sensors(r) => r.add_to(&mut sum),
+                Topics::Attitude(r) => r.add_to(&mut sum),
             }
         }
         Ok(TopicRecord::Raw { .. }) => {}
@@ -170,12 +182,8 @@ fn typed_indexed(path: &str) -> Result<(), Failure> {
         None
     };
     for row in sensors.iter().flat_map(|t| t.iter()) {
-        let r = row?;
         rows += 1;
-        sum += r.timestamp as f64;
-        for v in r.gyro_rad.iter().chain(&r.accelerometer_m_s2) {
-            sum += f64::from(*v);
-        }
+        row?.add_to(&mut sum);
     }
     let attitudes = if has(VehicleAttitude::NAME) {
         Some(log.read::<VehicleAttitude>(0)?)
@@ -183,12 +191,8 @@ fn typed_indexed(path: &str) -> Result<(), Failure> {
         None
     };
     for row in attitudes.iter().flat_map(|t| t.iter()) {
-        let r = row?;
         rows += 1;
-        sum += r.timestamp as f64;
-        for v in &r.q {
-            sum += f64::from(*v);
-        }
+        row?.add_to(&mut sum);
     }
     println!("messages={rows} check={sum}");
     Ok(())
@@ -196,19 +200,8 @@ fn typed_indexed(path: &str) -> Result<(), Failure> {
 
 fn columns(path: &str, threads: usize) -> Result<(), Failure> {
     let loaded = ulog_core::load_file_columns(path, threads)?;
-    let mut values = 0usize;
-    let mut failed = 0usize;
-    for t in &loaded.topics {
-        match &t.columns {
-            Ok(columns) => values += columns.iter().map(|c| c.data.len()).sum::<usize>(),
-            Err(_) => failed += 1,
-        }
-    }
-    println!(
-        "messages={} values={values} topics={} failed_topics={failed}",
-        loaded.summary.messages,
-        loaded.topics.len()
-    );
+    let tables = loaded.topics.iter().map(|t| t.columns.as_ref());
+    print_columns(loaded.summary.messages, tables);
     Ok(())
 }
 
@@ -216,20 +209,25 @@ fn columns_indexed(path: &str, threads: usize) -> Result<(), Failure> {
     let file = MappedFile::open(path)?;
     let log = file.parse()?;
     let tables = log.load_all_columns(threads);
-    let mut values = 0usize;
-    let mut failed = 0usize;
-    for t in &tables {
+    print_columns(log.message_count(), tables.iter().map(Result::as_ref));
+    Ok(())
+}
+
+/// Prints the values loaded (so that nothing is optimised away) and the topics that
+/// could not be loaded.
+fn print_columns<'t, E: 't>(
+    messages: u64,
+    tables: impl Iterator<Item = Result<&'t Vec<ulog_core::Column>, E>>,
+) {
+    let (mut values, mut topics, mut failed) = (0usize, 0usize, 0usize);
+    for t in tables {
+        topics += 1;
         match t {
             Ok(columns) => values += columns.iter().map(|c| c.data.len()).sum::<usize>(),
             Err(_) => failed += 1,
         }
     }
-    println!(
-        "messages={} values={values} topics={} failed_topics={failed}",
-        log.message_count(),
-        tables.len()
-    );
-    Ok(())
+    println!("messages={messages} values={values} topics={topics} failed_topics={failed}");
 }
 
 /// `sensor_combined` as PX4 v1.14 logs it (48 bytes).

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use crate::access::columns::{Column, Table};
 use crate::error::{Error, ErrorKind, Result};
+use crate::estimate::rows_at_end;
 use crate::read::scan::{scan_range, ScanRecord, ScanSummary, ScanTopic};
 
 /// The columns of one topic instance loaded by [`load_columns`] or
@@ -32,38 +33,28 @@ pub struct LoadedColumns {
     pub summary: ScanSummary,
 }
 
-/// The tables of one byte range, by subscription index.
+/// The tables of the topics one thread fills, by subscription index.
 struct Tables {
     tables: Vec<Option<Table>>,
-    /// The byte range (`end`: the file's length when known, else `u64::MAX`).
-    start: u64,
-    end: u64,
+    /// The file's length (`u64::MAX` when unknown).
+    len: u64,
 }
 
 impl Tables {
-    fn new(start: u64, end: u64) -> Tables {
+    fn new(len: u64) -> Tables {
         Tables {
             tables: Vec::new(),
-            start,
-            end,
+            len,
         }
     }
 
     #[inline]
     fn push(&mut self, r: &ScanRecord<'_, '_>) {
-        let (start, end) = (self.start, self.end);
+        let len = self.len;
         match self.tables.get_mut(r.subscription) {
-            // A topic's rows are about evenly spread over the file: its rows so far,
-            // scaled from the bytes read to the whole range, with a margin.
-            Some(Some(table)) => table.push(r.payload, |rows| {
-                let done = r.offset.saturating_sub(start).max(1);
-                let whole = end.saturating_sub(start);
-                if whole >= u64::MAX / 2 || done < 1 << 20 {
-                    return 0;
-                }
-                let estimate = rows as u128 * u128::from(whole) / u128::from(done);
-                usize::try_from(estimate + estimate / 8).unwrap_or(0)
-            }),
+            // A topic's rows are about evenly spread over the file: room for its rows
+            // so far scaled to the whole file.
+            Some(Some(table)) => table.push(r.payload, |rows| rows_at_end(rows, r.offset, len)),
             _ => self.first(r),
         }
     }
@@ -131,7 +122,12 @@ fn finish(summary: ScanSummary, shares: Vec<Tables>) -> LoadedColumns {
 /// # Ok::<(), ulog_core::Error>(())
 /// ```
 pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
-    let mut tables = Tables::new(0, u64::MAX);
+    load_one(src, u64::MAX)
+}
+
+/// [`load_columns`] on this thread, of a file of `len` bytes (`u64::MAX`: unknown).
+fn load_one<R: Read>(src: R, len: u64) -> Result<LoadedColumns> {
+    let mut tables = Tables::new(len);
     let summary = scan_range(src, u64::MAX, |r| tables.push(&r))?;
     Ok(finish(summary, vec![tables]))
 }
@@ -218,9 +214,7 @@ impl Shares {
 fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<LoadedColumns> {
     let io = io_error(path);
     if threads <= 1 {
-        let mut tables = Tables::new(0, len);
-        let summary = scan_range(File::open(path).map_err(io)?, u64::MAX, |r| tables.push(&r))?;
-        return Ok(finish(summary, vec![tables]));
+        return load_one(File::open(path).map_err(io)?, len);
     }
     // The work of a row is about one unit per column value plus the copy of the row.
     let mut work: Vec<u64> = Vec::new();
@@ -245,7 +239,7 @@ fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<Loa
                 let mut shares = shares.clone();
                 s.spawn(move || {
                     let file = File::open(path).map_err(io)?;
-                    let mut tables = Tables::new(0, len);
+                    let mut tables = Tables::new(len);
                     let summary = scan_range(file, u64::MAX, |r| {
                         if shares.owner(r.subscription) == k {
                             tables.push(&r);
@@ -324,7 +318,7 @@ mod tests {
     }
 
     #[test]
-    fn one_pass_and_byte_ranges_load_what_the_parse_loads() {
+    fn one_pass_and_shared_threads_load_what_the_parse_loads() {
         let mut checked = 0;
         for (name, bytes) in logs() {
             let Ok(log) = ULog::parse(&bytes) else {

@@ -76,12 +76,6 @@ pub(crate) struct SubDef {
     pub layout: Result<Arc<Layout>, LayoutError>,
 }
 
-impl SubDef {
-    fn sizes(&self) -> Option<(usize, usize)> {
-        self.layout.as_ref().ok().map(|l| (l.size(), l.min_size()))
-    }
-}
-
 /// One framed message: where it is and what it is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Record {
@@ -227,6 +221,21 @@ fn min_size(t: u8) -> usize {
     }
 }
 
+/// The end (relative to `win`) and msg_id entry of the data message at `rel` when it
+/// is plain: a data message ending by `limit`, of a subscribed msg_id and a size its
+/// layout allows.
+#[inline(always)]
+fn plain_at(win: &[u8], rel: usize, limit: usize, by_id: &[IdEntry]) -> Option<(usize, IdEntry)> {
+    let head = win.get(rel..rel + 5)?;
+    let size = u16::from_le_bytes([head[0], head[1]]) as usize;
+    let end = rel + MSG_HEADER_LEN + size;
+    if head[2] != b'D' || size < 2 || end > limit {
+        return None;
+    }
+    let entry = by_id[u16::from_le_bytes([head[3], head[4]]) as usize];
+    (entry.sub != NO_SUB && entry.accepts(size - 2)).then_some((end, entry))
+}
+
 fn valid_level(l: u8) -> bool {
     l <= 7 || (b'0'..=b'7').contains(&l)
 }
@@ -322,36 +331,37 @@ impl Framer {
         (i != NO_SUB).then_some(i)
     }
 
+    /// Where plain data messages may be framed from: the current position and the end
+    /// of what may be framed without a decision of [`Framer::step`] (the window's end
+    /// or the next appended offset), both relative to `win`. `None` while not in the
+    /// data messages, resynchronising or failed.
+    #[inline]
+    fn plain_window(&self, win: &[u8], base: u64) -> Option<(usize, usize)> {
+        if self.phase != Phase::Messages || self.scan.is_some() || self.failed.is_some() {
+            return None;
+        }
+        let rel = usize::try_from(self.pos.checked_sub(base)?).ok()?;
+        let limit = match self.pending_appended.first() {
+            Some(&off) => win.len().min(usize::try_from(off.checked_sub(base)?).ok()?),
+            None => win.len(),
+        };
+        Some((rel, limit))
+    }
+
     /// Frames the data message at the current position when it is the plain case: in
     /// the data messages, not resynchronising, wholly inside `win` and before the next
     /// appended offset, of a subscribed msg_id and a size its layout allows. `None`
     /// leaves every other case, with the same outcome, to [`Framer::step`].
     #[inline]
     fn plain_data(&mut self, win: &[u8], base: u64) -> Option<Record> {
-        if self.phase != Phase::Messages || self.scan.is_some() || self.failed.is_some() {
-            return None;
-        }
-        let p = self.pos;
-        let rel = usize::try_from(p.checked_sub(base)?).ok()?;
-        let limit = match self.pending_appended.first() {
-            Some(&off) => win.len().min(usize::try_from(off.checked_sub(base)?).ok()?),
-            None => win.len(),
-        };
-        let head = win.get(rel..rel + 5)?;
-        let size = u16::from_le_bytes([head[0], head[1]]) as usize;
-        if head[2] != b'D' || size < 2 || rel + 3 + size > limit {
-            return None;
-        }
-        let id = u16::from_le_bytes([head[3], head[4]]);
-        let entry = self.by_id[id as usize];
-        if entry.sub == NO_SUB || !entry.accepts(size - 2) {
-            return None;
-        }
-        self.pos = p + 3 + size as u64;
+        let (rel, limit) = self.plain_window(win, base)?;
+        let (end, entry) = plain_at(win, rel, limit, &self.by_id)?;
+        let offset = self.pos;
+        self.pos = base + end as u64;
         Some(Record {
-            offset: p,
+            offset,
             msg_type: b'D',
-            size: size as u16,
+            size: (end - rel - MSG_HEADER_LEN) as u16,
             sub: Some(entry.sub),
             unknown: false,
         })
@@ -368,37 +378,16 @@ impl Framer {
         base: u64,
         mut f: impl FnMut(u64, u32, &SubDef, &'w [u8]),
     ) {
-        if self.phase != Phase::Messages || self.scan.is_some() || self.failed.is_some() {
-            return;
-        }
-        let Some(mut rel) = self.pos.checked_sub(base).map(|r| r as usize) else {
+        let Some((mut rel, limit)) = self.plain_window(win, base) else {
             return;
         };
-        let limit = match self.pending_appended.first() {
-            Some(&off) => match off.checked_sub(base) {
-                Some(o) => win.len().min(usize::try_from(o).unwrap_or(usize::MAX)),
-                None => return,
-            },
-            None => win.len(),
-        };
-        let win = &win[..limit];
-        let by_id = &self.by_id[..];
         let subs = &self.subs[..];
-        while let Some(head) = win.get(rel..rel + 5) {
-            let size = u16::from_le_bytes([head[0], head[1]]) as usize;
-            let end = rel + 3 + size;
-            if head[2] != b'D' || size < 2 || end > limit {
-                break;
-            }
-            let entry = by_id[u16::from_le_bytes([head[3], head[4]]) as usize];
-            if entry.sub == NO_SUB || !entry.accepts(size - 2) {
-                break;
-            }
+        while let Some((end, entry)) = plain_at(win, rel, limit, &self.by_id) {
             f(
                 base + rel as u64,
                 entry.sub,
                 &subs[entry.sub as usize],
-                &win[rel + 3..end],
+                &win[rel + MSG_HEADER_LEN..end],
             );
             rel = end;
         }
@@ -815,17 +804,15 @@ impl Framer {
         match t {
             b'D' => {
                 let id = u16_at(p, 0);
-                match self.sub_index(id) {
-                    None if new_ids.contains(&id) => {}
-                    None => return Check::Bad(Bad::UnknownMsgId(id)),
-                    Some(i) => {
-                        if let Some((full, min)) = self.subs[i as usize].sizes() {
-                            let n = p.len() - 2;
-                            if n != full && n != min {
-                                return Check::Bad(Bad::SizeMismatch(id, (full, min), n));
-                            }
-                        }
+                let entry = self.by_id[id as usize];
+                let n = p.len() - 2;
+                if entry.sub == NO_SUB {
+                    if !new_ids.contains(&id) {
+                        return Check::Bad(Bad::UnknownMsgId(id));
                     }
+                } else if !entry.accepts(n) {
+                    let sizes = (entry.full as usize, entry.min as usize);
+                    return Check::Bad(Bad::SizeMismatch(id, sizes, n));
                 }
             }
             b'I' | b'P' => {
@@ -1028,9 +1015,9 @@ impl Framer {
             }
         };
         if self.by_id[msg_id as usize].sub != index {
-            let (full, min) = match self.subs[index as usize].sizes() {
-                Some((full, min)) => (full as u32, min as u32),
-                None => (ANY_SIZE, ANY_SIZE),
+            let (full, min) = match &self.subs[index as usize].layout {
+                Ok(l) => (l.size() as u32, l.min_size() as u32),
+                Err(_) => (ANY_SIZE, ANY_SIZE),
             };
             Arc::make_mut(&mut self.by_id)[msg_id as usize] = IdEntry {
                 sub: index,

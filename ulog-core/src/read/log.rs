@@ -249,17 +249,11 @@ impl<'a> ULog<'a> {
 }
 
 /// Makes room in a full offset vector for the rows the rest of the file (`len`
-/// bytes) will likely add, judged by the rate so far at `offset`, so that a large
-/// vector grows by one reallocation rather than by doublings that copy it.
+/// bytes) will likely add, judged by the rate so far at `offset`.
 #[cold]
 fn reserve_for_rest(records: &mut Vec<u64>, offset: u64, len: usize) {
     let rows = records.len();
-    let estimate = if offset >= 1 << 20 {
-        let whole = rows as u128 * len as u128 / u128::from(offset);
-        usize::try_from(whole + whole / 8).unwrap_or(0)
-    } else {
-        0
-    };
+    let estimate = crate::estimate::rows_at_end(rows, offset, len as u64);
     // At least double, as `push` would.
     let target = estimate.max(rows * 2).max(16);
     records.reserve_exact(target - rows);
