@@ -61,13 +61,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let threads = input::threads(args.jobs);
-    let log = std::thread::scope(|s| {
-        // Worth a thread for large logs only.
-        if threads > 1 && file.bytes().len() >= 1 << 24 {
-            s.spawn(|| map_pages(file.bytes()));
-        }
-        input::parse(&name, file.bytes())
-    })?;
+    let log = input::parse(&name, file.bytes())?;
 
     let mut topics: Vec<Topic<'_, '_>> = log.topics().filter(|t| !t.is_empty()).collect();
     if let Some(list) = &args.messages {
@@ -179,16 +173,6 @@ impl Job<'_, '_> {
     fn cost(&self) -> usize {
         self.topic.len() * (self.columns.len() + 1)
     }
-}
-
-/// Reads one byte of each page of `bytes`: run on another core while the log is parsed,
-/// the page faults of a mapped file are taken here rather than by the parser.
-fn map_pages(bytes: &[u8]) {
-    let mut x = 0u8;
-    for &b in bytes.iter().step_by(4096) {
-        x ^= b;
-    }
-    std::hint::black_box(x);
 }
 
 /// The path prefix of the output files: FILE without `.ulg` (any case), in DIR when
@@ -365,7 +349,7 @@ fn write_topic(
     // The messages of a topic are scattered over the file: each row would wait for
     // memory (and an address translation) if it were not fetched early.
     let offsets = &topic.message_offsets()[rows.clone()];
-    let span = MSG_HEADER_LEN + topic.payload(0).map_or(0, |p| p.len());
+    let span = BEFORE_PAYLOAD + topic.payload(0).map_or(0, |p| p.len());
     for (k, p) in topic
         .payloads()
         .skip(rows.start)
@@ -390,8 +374,8 @@ fn write_topic(
     Ok(())
 }
 
-/// A message's header and msg_id before its payload.
-const MSG_HEADER_LEN: usize = 5;
+/// The bytes of a data message before its payload: the header and the msg_id.
+const BEFORE_PAYLOAD: usize = 5;
 
 /// Asks the CPU to fetch `data[at..at + len]` into its cache, without waiting for it;
 /// nothing on other architectures.
