@@ -1,6 +1,7 @@
 //! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
 //! of every field of every data message: message by message (`StreamReader`), in
-//! one pass (`scan_reader`) and from the parsed index; and the columnar load in one
+//! one pass (`scan_reader`, with field readers or a `NumericBlock` per topic) and from
+//! the parsed index; and the columnar load in one
 //! pass (`load_columns`) and from the index on one and two threads. The whole-process versions of these, beside
 //! the peers, are in `bench/run`.
 //!
@@ -13,7 +14,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use ulog_core::{FieldReader, Message, StreamReader, ULog, Value};
+use ulog_core::{FieldReader, Message, NumericBlock, StreamReader, ULog, Value};
 
 fn load() -> (String, Vec<u8>) {
     if let Some(path) = std::env::var_os("ULOG_BENCH_FILE") {
@@ -103,6 +104,33 @@ fn decode_scan(bytes: &[u8]) -> f64 {
     sum
 }
 
+/// Every number of every data message in one pass (`scan_reader`), through a
+/// `NumericBlock` per subscription (`char[N]` strings left out).
+fn decode_blocks(bytes: &[u8]) -> f64 {
+    fn add_rows(sum: &mut f64, block: &mut NumericBlock) {
+        *sum += block.decode().values().iter().sum::<f64>();
+    }
+    let mut blocks: Vec<Option<Option<NumericBlock>>> = Vec::new();
+    let mut sum = 0.0;
+    ulog_core::scan_reader(bytes, |r| {
+        if r.subscription >= blocks.len() {
+            blocks.resize_with(r.subscription + 1, || None);
+        }
+        let block =
+            blocks[r.subscription].get_or_insert_with(|| r.layout.map(|l| NumericBlock::new(l)));
+        if let Some(block) = block {
+            if block.push(r.payload) {
+                add_rows(&mut sum, block);
+            }
+        }
+    })
+    .expect("reads");
+    for block in blocks.iter_mut().flatten().flatten() {
+        add_rows(&mut sum, block);
+    }
+    sum
+}
+
 /// Every field of every data message through the parsed index and field readers.
 fn decode_index(log: &ULog<'_>) -> f64 {
     let mut sum = 0.0;
@@ -144,6 +172,9 @@ fn main() {
     });
     group.bench_function("generic decode (scan_reader)", |b| {
         b.iter(|| decode_scan(black_box(&bytes)))
+    });
+    group.bench_function("numeric decode (scan_reader, NumericBlock)", |b| {
+        b.iter(|| decode_blocks(black_box(&bytes)))
     });
     group.bench_function("generic decode (parsed index)", |b| {
         b.iter(|| decode_index(black_box(&log)))

@@ -194,3 +194,65 @@ fn scan_topics_is_the_file_order_walk() {
         assert!(mismatches > 0);
     }
 }
+
+/// One subscription's block, its column readers, and the payloads it holds.
+struct Pending {
+    block: ulog_core::NumericBlock,
+    columns: Vec<ulog_core::FieldReader>,
+    payloads: Vec<Vec<u8>>,
+}
+
+impl Pending {
+    /// Decodes the block; every value must be what the column's own reader reads from
+    /// the payload as handed out (NaN where it reads nothing), bit for bit.
+    fn check(&mut self, name: &str, values: &mut usize) {
+        let rows = self.block.decode();
+        assert_eq!(rows.len(), self.payloads.len(), "{name}");
+        for (i, p) in self.payloads.iter().enumerate() {
+            for (c, got) in self.columns.iter().zip(rows.row(i)) {
+                let want = c.read_f64(p).unwrap_or(f64::NAN);
+                assert_eq!(got.to_bits(), want.to_bits(), "{name} {}", c.path());
+                *values += 1;
+            }
+        }
+        self.payloads.clear();
+    }
+}
+
+#[test]
+fn numeric_blocks_read_every_number_as_field_readers_do() {
+    let mut values = 0;
+    for (name, bytes) in logs() {
+        let mut pending: Vec<Option<Option<Pending>>> = Vec::new();
+        let drip = Drip {
+            bytes: &bytes,
+            state: 7,
+        };
+        let scanned = ulog_core::scan_reader(drip, |r| {
+            if r.subscription >= pending.len() {
+                pending.resize_with(r.subscription + 1, || None);
+            }
+            let slot = pending[r.subscription].get_or_insert_with(|| {
+                r.layout.map(|l| Pending {
+                    // A small block, so that most logs fill it many times.
+                    block: ulog_core::NumericBlock::with_capacity(l, 7),
+                    columns: ulog_core::NumericRow::of(l).columns().to_vec(),
+                    payloads: Vec::new(),
+                })
+            });
+            if let Some(p) = slot {
+                p.payloads.push(r.payload.to_vec());
+                if p.block.push(r.payload) {
+                    p.check(&name, &mut values);
+                }
+            }
+        });
+        if scanned.is_err() {
+            continue;
+        }
+        for p in pending.iter_mut().flatten().flatten() {
+            p.check(&name, &mut values);
+        }
+    }
+    assert!(values > 1_000_000, "{values} values compared");
+}

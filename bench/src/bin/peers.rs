@@ -5,7 +5,8 @@
 //! peers yule-raw FILE      yule_log's parser: every data message decoded, every field summed
 //! peers yule-derive FILE   yule_log's derive: sensor_combined and vehicle_attitude
 //! peers px4-stream FILE    px4-ulog's stream callback, every field of every data
-//!                          message decoded from its flattened format and summed
+//!                          message decoded from its flattened format and summed (in
+//!                          four partial sums, as `ours decode-*` does)
 //! peers px4-full FILE      px4-ulog's full_parser::read_file (every topic into columns)
 //! ```
 //!
@@ -128,14 +129,16 @@ fn le<const N: usize>(b: &[u8]) -> [u8; N] {
 
 fn px4_stream(path: &str) -> Result<(), Failure> {
     let mut messages = 0u64;
-    let mut sum = 0.0f64;
+    let mut acc = [0.0f64; 4];
+    let mut k = 0usize;
     read_file_with_simple_callback(path, &mut |m| {
         messages += 1;
         if let Message::Data(d) = m {
             // Offsets count from the start of `data` (the msg_id included).
             for f in &d.flattened_format.fields {
                 let b = &d.data[f.offset as usize..];
-                sum += match f.field_type {
+                k += 1;
+                acc[k & 3] += match f.field_type {
                     FlattenedFieldType::Int8 => f64::from(b[0] as i8),
                     FlattenedFieldType::UInt8 => f64::from(b[0]),
                     FlattenedFieldType::Int16 => f64::from(i16::from_le_bytes(le(b))),
@@ -153,6 +156,7 @@ fn px4_stream(path: &str) -> Result<(), Failure> {
         }
         SimpleCallbackResult::KeepReading
     })?;
+    let sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
     println!("messages={messages} check={sum}");
     Ok(())
 }
