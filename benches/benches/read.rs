@@ -1,7 +1,7 @@
 //! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
 //! of every field of every data message: message by message (`StreamReader`), in
-//! one pass (`scan_reader`, with field readers or a `NumericBlock` per topic) and from
-//! the parsed index; and the columnar load in one
+//! one pass (`scan_reader`, with field readers; the numbers only, with a `NumericRow`
+//! per message or a `NumericBlock` per topic) and from the parsed index; and the columnar load in one
 //! pass (`load_columns`) and from the index on one and two threads. The whole-process versions of these, beside
 //! the peers, are in `bench/run`.
 //!
@@ -14,7 +14,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use ulog_core::{FieldReader, Message, NumericBlock, StreamReader, ULog, Value};
+use ulog_core::{FieldReader, Message, NumericBlock, NumericRow, StreamReader, ULog, Value};
 
 fn load() -> (String, Vec<u8>) {
     if let Some(path) = std::env::var_os("ULOG_BENCH_FILE") {
@@ -105,6 +105,27 @@ fn decode_scan(bytes: &[u8]) -> f64 {
 }
 
 /// Every number of every data message in one pass (`scan_reader`), through a
+/// `NumericRow` per subscription, message by message (`char[N]` strings left out).
+fn decode_rows(bytes: &[u8]) -> f64 {
+    let mut rows: Vec<Option<Option<NumericRow>>> = Vec::new();
+    let mut values = Vec::new();
+    let mut sum = 0.0;
+    ulog_core::scan_reader(bytes, |r| {
+        if r.subscription >= rows.len() {
+            rows.resize_with(r.subscription + 1, || None);
+        }
+        let row = rows[r.subscription].get_or_insert_with(|| r.layout.map(|l| NumericRow::of(l)));
+        if let Some(row) = row {
+            values.resize(row.width(), 0.0);
+            row.read(r.payload, &mut values);
+            sum += values.iter().sum::<f64>();
+        }
+    })
+    .expect("reads");
+    sum
+}
+
+/// Every number of every data message in one pass (`scan_reader`), through a
 /// `NumericBlock` per subscription (`char[N]` strings left out).
 fn decode_blocks(bytes: &[u8]) -> f64 {
     fn add_rows(sum: &mut f64, block: &mut NumericBlock) {
@@ -173,7 +194,10 @@ fn main() {
     group.bench_function("generic decode (scan_reader)", |b| {
         b.iter(|| decode_scan(black_box(&bytes)))
     });
-    group.bench_function("numeric decode (scan_reader, NumericBlock)", |b| {
+    group.bench_function("numbers only (scan_reader, NumericRow)", |b| {
+        b.iter(|| decode_rows(black_box(&bytes)))
+    });
+    group.bench_function("numbers only (scan_reader, NumericBlock)", |b| {
         b.iter(|| decode_blocks(black_box(&bytes)))
     });
     group.bench_function("generic decode (parsed index)", |b| {

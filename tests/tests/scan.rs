@@ -199,6 +199,7 @@ fn scan_topics_is_the_file_order_walk() {
 struct Pending {
     block: ulog_core::NumericBlock,
     columns: Vec<ulog_core::FieldReader>,
+    min_size: usize,
     payloads: Vec<Vec<u8>>,
 }
 
@@ -208,7 +209,9 @@ impl Pending {
     fn check(&mut self, name: &str, values: &mut usize) {
         let rows = self.block.decode();
         assert_eq!(rows.len(), self.payloads.len(), "{name}");
+        assert_eq!(rows.width(), self.columns.len(), "{name}");
         for (i, p) in self.payloads.iter().enumerate() {
+            assert_eq!(rows.payload(i), &p[..p.len().min(self.min_size)], "{name}");
             for (c, got) in self.columns.iter().zip(rows.row(i)) {
                 let want = c.read_f64(p).unwrap_or(f64::NAN);
                 assert_eq!(got.to_bits(), want.to_bits(), "{name} {}", c.path());
@@ -236,7 +239,12 @@ fn numeric_blocks_read_every_number_as_field_readers_do() {
                 r.layout.map(|l| Pending {
                     // A small block, so that most logs fill it many times.
                     block: ulog_core::NumericBlock::with_capacity(l, 7),
-                    columns: ulog_core::NumericRow::of(l).columns().to_vec(),
+                    // The scalar columns, from the one-field readers.
+                    columns: ulog_core::FieldReader::columns_of(l)
+                        .into_iter()
+                        .filter(|c| c.shape() == ulog_core::FieldShape::Scalar)
+                        .collect(),
+                    min_size: l.min_size(),
                     payloads: Vec::new(),
                 })
             });

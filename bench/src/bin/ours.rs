@@ -33,11 +33,11 @@ use ulog_core::{
 type Failure = Box<dyn std::error::Error>;
 
 /// Adds a value read as a typed value to the checksum: numbers and booleans as `f64`,
-/// strings by their length.
+/// strings byte by byte (as the px4-ulog peer reads `char[N]`: N `char` fields).
 #[inline]
 fn add(sum: &mut f64, v: Value<'_>) {
     match v {
-        Value::Str(s) => *sum += s.as_bytes().len() as f64,
+        Value::Str(s) => *sum += s.as_bytes().iter().map(|b| f64::from(*b)).sum::<f64>(),
         v => *sum += v.as_f64().unwrap_or(0.0),
     }
 }

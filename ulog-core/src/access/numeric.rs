@@ -8,9 +8,10 @@
 //! A [`NumericBlock`] goes further for a stream of one topic's payloads: it gathers
 //! them (a copy of each) and reads the block one column at a time, so that the type
 //! dispatch is paid once per block and every inner loop is a strided load and convert.
-//! Over a whole log, a block per subscription, this costs a copy of each payload and
-//! saves more than it costs: the benchmark harness's decode workload takes about 0.7 of
-//! the time it takes with a [`NumericRow`] per message.
+//! Over a whole log, a block per subscription, this costs a copy of each payload; on
+//! large logs it saves more than it costs, on a few MB that stay in the CPU's caches
+//! about as much (`cargo bench -p ulog-benches --bench read` measures both ways,
+//! "numbers only"; `ULOG_BENCH_FILE` for a large log).
 
 use ulog_format::{BasicType, Layout};
 
@@ -98,6 +99,8 @@ macro_rules! dispatch {
 pub struct NumericRow {
     columns: Vec<FieldReader>,
     groups: Vec<Group>,
+    /// Where the last numeric column ends: a payload this long holds them all.
+    end: usize,
 }
 
 /// The runs of one type.
@@ -151,7 +154,16 @@ impl NumericRow {
                 }),
             }
         }
-        NumericRow { columns, groups }
+        let end = columns
+            .iter()
+            .map(|c| c.offset() + c.ty().size())
+            .max()
+            .unwrap_or(0);
+        NumericRow {
+            columns,
+            groups,
+            end,
+        }
     }
 
     /// Number of numeric columns: the length of a row.
@@ -222,20 +234,27 @@ pub struct NumericBlock {
 /// Rows a block holds by default.
 const BLOCK_ROWS: usize = 64;
 
+/// The most a block holds in payload bytes and values, whatever its capacity in rows
+/// (a wide format gets fewer rows, at least one).
+const BLOCK_BYTES: usize = 64 << 10;
+
 impl NumericBlock {
-    /// A block of 64 payloads of `layout`.
+    /// A block of 64 payloads of `layout` (fewer for payloads over 1 KiB: a block
+    /// holds at most 64 KiB of payloads and values).
     pub fn new(layout: &Layout) -> NumericBlock {
         NumericBlock::with_capacity(layout, BLOCK_ROWS)
     }
 
-    /// A block of `capacity` payloads of `layout` (at least one).
+    /// A block of `capacity` payloads of `layout`: at least one, and no more than fit
+    /// in 64 KiB of payloads and values. Memory is taken at the first push.
     pub fn with_capacity(layout: &Layout, capacity: usize) -> NumericBlock {
-        let capacity = capacity.max(1);
         let stride = layout.min_size();
         let numbers = NumericRow::of(layout);
+        let row_bytes = stride.saturating_add(numbers.width().saturating_mul(8));
+        let capacity = capacity.min(BLOCK_BYTES / row_bytes.max(1)).max(1);
         NumericBlock {
-            bytes: Vec::with_capacity(stride.saturating_mul(capacity)),
-            values: Vec::with_capacity(numbers.width().saturating_mul(capacity)),
+            bytes: Vec::new(),
+            values: Vec::new(),
             numbers,
             stride,
             capacity,
@@ -243,6 +262,11 @@ impl NumericBlock {
             short: Vec::new(),
             decoded: false,
         }
+    }
+
+    /// Payloads the block holds when full.
+    pub fn capacity(&self) -> usize {
+        self.capacity
     }
 
     /// The numeric columns a row holds.
@@ -265,6 +289,9 @@ impl NumericBlock {
     #[inline]
     pub fn push(&mut self, payload: &[u8]) -> bool {
         self.forget_decoded();
+        if self.rows == 0 && self.bytes.capacity() == 0 {
+            self.bytes.reserve_exact(self.stride * self.capacity);
+        }
         match payload.get(..self.stride) {
             Some(kept) => self.bytes.extend_from_slice(kept),
             None => {
@@ -315,6 +342,8 @@ impl NumericBlock {
             count: n,
             values: &self.values,
             bytes: &self.bytes,
+            short: &self.short,
+            end: self.numbers.end,
         }
     }
 }
@@ -339,6 +368,10 @@ pub struct NumericRows<'b> {
     count: usize,
     values: &'b [f64],
     bytes: &'b [u8],
+    /// Rows whose payload was shorter than the stride: (row, length), by row.
+    short: &'b [(usize, usize)],
+    /// Where the last numeric column ends.
+    end: usize,
 }
 
 impl<'b> NumericRows<'b> {
@@ -372,13 +405,28 @@ impl<'b> NumericRows<'b> {
     }
 
     /// The payload row `i` was read from, as kept: its first [`Layout::min_size`] bytes
-    /// (a shorter payload zero-filled to that length), for its `char[N]` strings.
+    /// (its trailing padding left out), or all of it if shorter; for its `char[N]`
+    /// strings.
     ///
     /// # Panics
     /// If `i >= len()`.
     pub fn payload(&self, i: usize) -> &'b [u8] {
         assert!(i < self.count, "row {i} of {}", self.count);
-        &self.bytes[i * self.stride..(i + 1) * self.stride]
+        let len = match self.short.binary_search_by_key(&i, |&(row, _)| row) {
+            Ok(at) => self.short[at].1,
+            Err(_) => self.stride,
+        };
+        &self.bytes[i * self.stride..i * self.stride + len]
+    }
+
+    /// Whether row `i`'s payload held every numeric column (`false`: a message cut
+    /// short, whose missing values read as NaN).
+    ///
+    /// # Panics
+    /// If `i >= len()`.
+    pub fn is_whole(&self, i: usize) -> bool {
+        assert!(i < self.count, "row {i} of {}", self.count);
+        self.payload(i).len() >= self.end
     }
 }
 
@@ -551,21 +599,18 @@ mod tests {
             for i in 0..rows.len() {
                 let p = &payloads[*seen];
                 let mut want = vec![0.0; numbers.width()];
-                numbers.read(p, &mut want);
+                let whole = numbers.read(p, &mut want);
+                assert_eq!(rows.is_whole(i), whole, "payload {seen}");
                 let got: Vec<u64> = rows.row(i).iter().map(|v| v.to_bits()).collect();
                 let want: Vec<u64> = want.iter().map(|v| v.to_bits()).collect();
                 assert_eq!(got, want, "payload {seen}");
-                let kept = rows.payload(i);
-                assert_eq!(kept.len(), l.min_size());
-                let n = p.len().min(kept.len());
-                assert_eq!(kept[..n], p[..n]);
-                assert!(kept[n..].iter().all(|b| *b == 0));
+                assert_eq!(rows.payload(i), &p[..p.len().min(l.min_size())]);
                 *seen += 1;
             }
         };
         for p in payloads {
             let full = block.push(p);
-            assert_eq!(full, block.len() == capacity.max(1));
+            assert_eq!(full, block.len() == block.capacity());
             if full {
                 check(block.decode(), &mut seen);
                 assert!(block.is_empty());
@@ -598,7 +643,7 @@ mod tests {
             };
             payloads.push(bytes(len, seed));
         }
-        for capacity in [0, 1, 2, 5, 64, 1000] {
+        for capacity in [0, 1, 2, 5, 64, 1000, usize::MAX] {
             check_block(&l, &payloads, capacity);
         }
     }
@@ -612,7 +657,42 @@ mod tests {
         let rows = block.decode();
         assert_eq!((rows.len(), rows.width()), (2, 0));
         assert_eq!(rows.payload(0), b"abcd");
-        assert_eq!(rows.payload(1), b"xy\0\0");
+        assert_eq!(rows.payload(1), b"xy");
+        assert!(rows.is_whole(1), "no numbers to miss");
         assert!(rows.row(1).is_empty());
+    }
+
+    #[test]
+    fn a_block_holds_at_most_64_kib() {
+        let small = layout("t:uint64_t timestamp;float[4] q;", &[]);
+        assert_eq!(NumericBlock::new(&small).capacity(), 64);
+        assert_eq!(NumericBlock::with_capacity(&small, 5).capacity(), 5);
+        // 24 payload bytes and 5 values a row: 64 KiB / 64 bytes.
+        assert_eq!(
+            NumericBlock::with_capacity(&small, usize::MAX).capacity(),
+            1024
+        );
+        let wide = layout("t:uint64_t timestamp;uint8_t[60000] x;", &[]);
+        let mut block = NumericBlock::new(&wide);
+        assert_eq!(block.capacity(), 1);
+        let payload = bytes(wide.size(), 3);
+        assert!(block.push(&payload));
+        let rows = block.decode();
+        assert_eq!((rows.len(), rows.width()), (1, 60001));
+        assert_eq!(rows.row(0)[60000], f64::from(payload[60007]));
+    }
+
+    #[test]
+    fn a_row_is_whole_when_only_strings_or_padding_are_cut() {
+        let l = layout("t:uint64_t timestamp;char[6] s;", &[]);
+        let mut block = NumericBlock::new(&l);
+        for len in [14, 8, 7, 0] {
+            block.push(&bytes(len, 5)[..]);
+        }
+        let rows = block.decode();
+        let whole: Vec<bool> = (0..rows.len()).map(|i| rows.is_whole(i)).collect();
+        assert_eq!(whole, [true, true, false, false]);
+        assert!(rows.row(2)[0].is_nan());
+        assert_eq!(rows.payload(2).len(), 7);
     }
 }
