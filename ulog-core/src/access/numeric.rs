@@ -176,6 +176,46 @@ impl NumericRow {
         &self.columns
     }
 
+    /// Reads every numeric column of every payload into `values` (set to
+    /// `payloads.len() × width` values, row-major), column by column: the type
+    /// dispatch is paid once for all the payloads (see [`NumericBlock`], which gathers
+    /// them). A value past a payload's end reads as NaN.
+    ///
+    /// ```
+    /// use ulog_core::format::{Format, Resolver};
+    /// let f = Format::parse("t:uint64_t timestamp;int8_t k;").unwrap();
+    /// let layout = Resolver::default().resolve("t", &[f][..]).unwrap();
+    /// let numbers = ulog_core::NumericRow::of(&layout);
+    /// let (a, b) = ([&5u64.to_le_bytes()[..], &[0xff]].concat(), 6u64.to_le_bytes());
+    /// let mut values = Vec::new();
+    /// numbers.read_rows(&[&a[..], &b[..]], &mut values);
+    /// assert_eq!(values[..3], [5.0, -1.0, 6.0]);
+    /// assert!(values[3].is_nan(), "the second payload stops before `k`");
+    /// ```
+    pub fn read_rows(&self, payloads: &[&[u8]], values: &mut Vec<f64>) {
+        // Every value is written: only a change of length is filled.
+        values.resize(payloads.len() * self.columns.len(), 0.0);
+        self.fill(payloads.iter().copied(), values);
+    }
+
+    /// Reads the payloads into `values` (of their number × width), column by column.
+    #[inline]
+    fn fill<'p>(&self, payloads: impl Iterator<Item = &'p [u8]> + Clone, values: &mut [f64]) {
+        let width = self.columns.len();
+        if width == 0 {
+            return;
+        }
+        for g in &self.groups {
+            dispatch!(g.ty, |read| fill_rows(
+                &g.runs,
+                payloads.clone(),
+                width,
+                values,
+                read
+            ));
+        }
+    }
+
     /// Reads every numeric column of `payload` into `row[..width]`. A column the
     /// payload is too short for (a message cut short) reads as NaN, and the result is
     /// then `false`.
@@ -314,17 +354,8 @@ impl NumericBlock {
         // Every value is written below: only a change of length is filled.
         self.values.resize(n * width, 0.0);
         if width > 0 && self.stride > 0 {
-            let bytes = &self.bytes[..n * self.stride];
-            for g in &self.numbers.groups {
-                dispatch!(g.ty, |read| fill_block(
-                    &g.runs,
-                    bytes,
-                    self.stride,
-                    width,
-                    &mut self.values,
-                    read
-                ));
-            }
+            let payloads = self.bytes[..n * self.stride].chunks_exact(self.stride);
+            self.numbers.fill(payloads, &mut self.values);
             for &(row, len) in &self.short {
                 let values = &mut self.values[row * width..(row + 1) * width];
                 for (v, c) in values.iter_mut().zip(&self.numbers.columns) {
@@ -430,13 +461,13 @@ impl<'b> NumericRows<'b> {
     }
 }
 
-/// Reads the runs of one type whose values are `N` bytes from every payload of a
-/// block (`stride` bytes each) into its rows (`width` values each).
+/// Reads the runs of one type whose values are `N` bytes from every payload into its
+/// row (`width` values each), column by column; a value past a payload's end reads
+/// as NaN.
 #[inline(always)]
-fn fill_block<const N: usize>(
+fn fill_rows<'p, const N: usize>(
     runs: &[Run],
-    bytes: &[u8],
-    stride: usize,
+    payloads: impl Iterator<Item = &'p [u8]> + Clone,
     width: usize,
     values: &mut [f64],
     read: impl Fn([u8; N]) -> f64,
@@ -445,11 +476,11 @@ fn fill_block<const N: usize>(
         for k in 0..r.count {
             let at = r.offset + k * N;
             let column = r.column + k;
-            for (p, row) in bytes
-                .chunks_exact(stride)
-                .zip(values.chunks_exact_mut(width))
-            {
-                row[column] = read(p[at..at + N].try_into().unwrap_or([0; N]));
+            for (p, row) in payloads.clone().zip(values.chunks_exact_mut(width)) {
+                row[column] = match p.get(at..at + N) {
+                    Some(b) => read(b.try_into().unwrap_or([0; N])),
+                    None => f64::NAN,
+                };
             }
         }
     }
@@ -694,5 +725,30 @@ mod tests {
         assert_eq!(whole, [true, true, false, false]);
         assert!(rows.row(2)[0].is_nan());
         assert_eq!(rows.payload(2).len(), 7);
+    }
+
+    #[test]
+    fn read_rows_reads_as_a_row_per_payload_does() {
+        let l = layout(
+            "t:uint64_t timestamp;int16_t[3] a;float b;bool c;char[3] s;double d;uint8_t[2] _padding0;",
+            &[],
+        );
+        let numbers = NumericRow::of(&l);
+        let payloads: Vec<Vec<u8>> = (0..100u64)
+            .map(|seed| bytes((seed as usize * 7) % (l.size() + 5), seed + 1))
+            .collect();
+        let refs: Vec<&[u8]> = payloads.iter().map(Vec::as_slice).collect();
+        // Stale values from a longer call are overwritten.
+        let mut values = vec![7.0; 3 * refs.len() * numbers.width()];
+        numbers.read_rows(&refs, &mut values);
+        assert_eq!(values.len(), refs.len() * numbers.width());
+        for (p, got) in refs.iter().zip(values.chunks_exact(numbers.width())) {
+            let mut want = vec![0.0; numbers.width()];
+            numbers.read(p, &mut want);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(got), bits(&want), "{} bytes", p.len());
+        }
+        numbers.read_rows(&[], &mut values);
+        assert!(values.is_empty());
     }
 }
