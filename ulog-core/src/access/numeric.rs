@@ -266,9 +266,9 @@ pub struct NumericBlock {
     rows: usize,
     /// Payloads shorter than the stride: (row, length).
     short: Vec<(usize, usize)>,
+    /// The rows last decoded (kept while no payload is pending: `bytes` and `short`
+    /// then hold their payloads, until the next push).
     values: Vec<f64>,
-    /// Whether `bytes` holds the rows last decoded (cleared at the next push).
-    decoded: bool,
 }
 
 /// Rows a block holds by default.
@@ -300,7 +300,6 @@ impl NumericBlock {
             capacity,
             rows: 0,
             short: Vec::new(),
-            decoded: false,
         }
     }
 
@@ -328,9 +327,11 @@ impl NumericBlock {
     /// push, or that push decodes nothing and grows the block past its capacity).
     #[inline]
     pub fn push(&mut self, payload: &[u8]) -> bool {
-        self.forget_decoded();
-        if self.rows == 0 && self.bytes.capacity() == 0 {
-            self.bytes.reserve_exact(self.stride * self.capacity);
+        if self.rows == 0 {
+            self.forget_decoded();
+            if self.bytes.capacity() == 0 {
+                self.bytes.reserve_exact(self.stride * self.capacity);
+            }
         }
         match payload.get(..self.stride) {
             Some(kept) => self.bytes.extend_from_slice(kept),
@@ -348,7 +349,9 @@ impl NumericBlock {
     /// Reads every payload gathered into rows, and empties the block. The rows (and the
     /// payloads they were read from) stay readable until the block is next changed.
     pub fn decode(&mut self) -> NumericRows<'_> {
-        self.forget_decoded();
+        if self.rows == 0 {
+            self.forget_decoded();
+        }
         let width = self.numbers.width();
         let n = self.rows;
         // Every value is written below: only a change of length is filled.
@@ -356,17 +359,14 @@ impl NumericBlock {
         if width > 0 && self.stride > 0 {
             let payloads = self.bytes[..n * self.stride].chunks_exact(self.stride);
             self.numbers.fill(payloads, &mut self.values);
+            // A short payload was zero-filled to the stride: read again as it came
+            // (NaN past its end).
             for &(row, len) in &self.short {
-                let values = &mut self.values[row * width..(row + 1) * width];
-                for (v, c) in values.iter_mut().zip(&self.numbers.columns) {
-                    if c.offset() + c.ty().size() > len {
-                        *v = f64::NAN;
-                    }
-                }
+                let payload = &self.bytes[row * self.stride..row * self.stride + len];
+                self.numbers.read(payload, &mut self.values[row * width..]);
             }
         }
         self.rows = 0;
-        self.decoded = true;
         NumericRows {
             width,
             stride: self.stride,
@@ -380,14 +380,11 @@ impl NumericBlock {
 }
 
 impl NumericBlock {
-    /// Drops the payloads of the rows last decoded, if still kept.
+    /// Drops the payloads of the rows last decoded (called with no payload pending).
     #[inline]
     fn forget_decoded(&mut self) {
-        if self.decoded {
-            self.bytes.clear();
-            self.short.clear();
-            self.decoded = false;
-        }
+        self.bytes.clear();
+        self.short.clear();
     }
 }
 
