@@ -241,6 +241,8 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                      note="mmap, walk the 3-byte headers, count"))
     P.append(Program("framing", "ours", [b["ours"], "framing", path],
                      note="ULog::parse on a memory map"))
+    P.append(Program("framing", "ours (scan, no index)", [b["ours"], "scan", path],
+                     note="scan over a memory map: framing without the index (for reference)"))
     P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
                      note="scan_reader: read() in 256 KiB chunks, one pass"))
     P.append(Program("generic decode", "ours (mmap)", [b["ours"], "decode-mmap", path],
@@ -252,7 +254,7 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                          note="ULogParser, every field"))
     P.append(Program("typed decode", "ours (derive)", [b["ours"], "typed", path],
                      msgs_from_output=True,
-                     note="sensor_combined + vehicle_attitude: scan_topics over a memory map"))
+                     note="sensor_combined + vehicle_attitude: scan_topics_only over a memory map"))
     P.append(Program("typed decode", "ours (derive, indexed)", [b["ours"], "typed-indexed", path],
                      msgs_from_output=True, note="the same through ULog::parse + ULog::read::<T>"))
     if peers:

@@ -2,8 +2,10 @@
 //! of every field of every data message: message by message (`StreamReader`), in
 //! one pass (`scan_reader`, with field readers; the numbers only, with a `NumericRow`
 //! per message or a `NumericBlock` per topic) and from the parsed index; and the columnar load in one
-//! pass (`load_columns`) and from the index on one and two threads. The whole-process versions of these, beside
-//! the peers, are in `bench/run`.
+//! pass (`load_columns`) and from the index on one and two threads; and two topics
+//! (`sensor_combined`, `vehicle_attitude`) through derived structs in one pass, with
+//! the other topics handed out raw (`scan_topics`) or not at all (`scan_topics_only`).
+//! The whole-process versions of these, beside the peers, are in `bench/run`.
 //!
 //! ```text
 //! cargo bench -p ulog-benches --bench read                  # the corpus's sample.ulg
@@ -14,7 +16,70 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
+use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
 use ulog_core::{FieldReader, Message, NumericBlock, NumericRow, StreamReader, ULog, Value};
+
+/// `sensor_combined`: timestamp, gyro and accelerometer.
+#[derive(ULogMessage)]
+struct SensorCombined {
+    timestamp: u64,
+    gyro_rad: [f32; 3],
+    accelerometer_m_s2: [f32; 3],
+}
+
+/// `vehicle_attitude`: timestamp and quaternion.
+#[derive(ULogMessage)]
+struct VehicleAttitude {
+    timestamp: u64,
+    q: [f32; 4],
+}
+
+/// The two topics of the typed rows.
+#[derive(ULogTopics)]
+enum Two {
+    Sensors(SensorCombined),
+    Attitude(VehicleAttitude),
+}
+
+impl Two {
+    /// The timestamp and every value, summed.
+    fn sum(&self) -> f64 {
+        let (t, values) = match self {
+            Two::Sensors(s) => (s.timestamp, [&s.gyro_rad[..], &s.accelerometer_m_s2[..]]),
+            Two::Attitude(a) => (a.timestamp, [&a.q[..], &[][..]]),
+        };
+        t as f64
+            + values
+                .iter()
+                .flat_map(|v| v.iter())
+                .map(|&v| f64::from(v))
+                .sum::<f64>()
+    }
+}
+
+/// The two topics through `scan_topics` (the other topics come raw).
+fn typed_scan(bytes: &[u8]) -> f64 {
+    let mut sum = 0.0;
+    ulog_core::scan_topics::<Two, _>(bytes, |r| {
+        if let Ok(TopicRecord::Message { message, .. }) = r {
+            sum += message.sum();
+        }
+    })
+    .expect("scans");
+    sum
+}
+
+/// The two topics through `scan_topics_only` (the other topics are not handed out).
+fn typed_scan_only(bytes: &[u8]) -> f64 {
+    let mut sum = 0.0;
+    ulog_core::scan_topics_only::<Two, _>(bytes, |r| {
+        if let Ok(m) = r {
+            sum += m.message.sum();
+        }
+    })
+    .expect("scans");
+    sum
+}
 
 fn load() -> (String, Vec<u8>) {
     if let Some(path) = std::env::var_os("ULOG_BENCH_FILE") {
@@ -202,6 +267,12 @@ fn main() {
     });
     group.bench_function("generic decode (parsed index)", |b| {
         b.iter(|| decode_index(black_box(&log)))
+    });
+    group.bench_function("typed decode (scan_topics, 2 topics)", |b| {
+        b.iter(|| typed_scan(black_box(&bytes)))
+    });
+    group.bench_function("typed decode (scan_topics_only, 2 topics)", |b| {
+        b.iter(|| typed_scan_only(black_box(&bytes)))
     });
     group.bench_function("columnar load (one pass, load_columns)", |b| {
         b.iter(|| {

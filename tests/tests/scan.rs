@@ -1,6 +1,7 @@
-//! One-pass scans (`scan`, `scan_reader`, `scan_topics`) hand out exactly the data
-//! messages the whole-file parse indexes, in file order, with the same findings, on
-//! every corpus log (damaged ones included) and however the bytes arrive.
+//! One-pass scans (`scan`, `scan_reader`, `scan_topics`, `scan_topics_only`) hand out
+//! exactly the data messages the whole-file parse indexes, in file order, with the
+//! same findings, on every corpus log (damaged ones included) and however the bytes
+//! arrive.
 
 use std::io::Read;
 
@@ -190,6 +191,62 @@ fn scan_topics_is_the_file_order_walk() {
     }
     assert!(decoded > 0);
     // `esc_status` (in several corpus logs) does not fit `EscStatus`: reported, then raw.
+    if corpus_dir().is_some() {
+        assert!(mismatches > 0);
+    }
+}
+
+#[test]
+fn scan_topics_only_is_scan_topics_without_the_raw_records() {
+    let mut decoded = 0;
+    let mut mismatches = 0;
+    for (name, bytes) in logs() {
+        // Offsets of the data messages, in file order, to place scan_topics' records.
+        let mut offsets = Vec::new();
+        let Ok(all) = ulog_core::scan(&bytes, |r| offsets.push(r.offset)) else {
+            assert!(ulog_core::scan_topics_only::<Topics, _>(&bytes, |_| {}).is_err());
+            continue;
+        };
+        let mut expected = Vec::new();
+        let mut records = offsets.iter();
+        let full = ulog_core::scan_topics::<Topics, _>(&bytes, |r| match r {
+            Ok(TopicRecord::Message { multi_id, message }) => {
+                let offset = records.next().unwrap();
+                expected.push(format!("{offset} {multi_id} {message:?}"));
+            }
+            Ok(TopicRecord::Raw { .. }) => {
+                records.next().unwrap();
+            }
+            Err(e) => expected.push(format!("{e:?}")),
+        })
+        .unwrap();
+        assert!(records.next().is_none(), "{name}");
+        let mut only = Vec::new();
+        let summary = ulog_core::scan_topics_only::<Topics, _>(&bytes, |r| match r {
+            Ok(m) => {
+                decoded += 1;
+                only.push(format!("{} {} {:?}", m.offset, m.multi_id, m.message));
+            }
+            Err(e) => {
+                assert!(
+                    matches!(e.kind, ulog_core::ErrorKind::Mismatch(_)),
+                    "{name}: {e}"
+                );
+                mismatches += 1;
+                only.push(format!("{e:?}"));
+            }
+        })
+        .unwrap();
+        assert_eq!(only.len(), expected.len(), "{name}");
+        for (i, (o, e)) in only.iter().zip(&expected).enumerate() {
+            assert_eq!(o, e, "{name}: record {i}");
+        }
+        // The other topics are framed and counted all the same.
+        assert_eq!(summary, full, "{name}");
+        assert_eq!(summary, all, "{name}");
+    }
+    assert!(decoded > 0);
+    // `esc_status` (in several corpus logs) does not fit `EscStatus`: reported once.
     if corpus_dir().is_some() {
         assert!(mismatches > 0);
     }

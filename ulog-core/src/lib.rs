@@ -49,7 +49,7 @@ pub use access::columns::{Column, ColumnData};
 pub use access::load::{load_columns, load_file_columns, LoadedColumns, TopicColumns};
 pub use access::numeric::{NumericBlock, NumericRow, NumericRows};
 pub use access::topic::{FieldReader, FieldShape, Topic};
-pub use access::typed::{scan_topics, Order, TypedRows, Walk};
+pub use access::typed::{scan_topics, scan_topics_only, Order, TypedRows, Walk};
 pub use error::{Error, ErrorKind, Result};
 pub use finding::{Corruption, Finding, FindingKind};
 #[cfg(feature = "mmap")]

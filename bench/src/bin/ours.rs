@@ -2,6 +2,8 @@
 //!
 //! ```text
 //! ours framing FILE               ULog::parse on a memory map (indexes every message)
+//! ours scan FILE                  scan over a memory map, counting the data messages
+//!                                 (framing without the index)
 //! ours decode-stream FILE         scan_reader over the file (read in 256 KiB chunks);
 //!                                 every field of every data message read as a typed
 //!                                 value: numbers through a NumericBlock per subscription
@@ -9,7 +11,7 @@
 //!                                 strings through FieldReader
 //! ours decode-mmap FILE           the same with scan over a memory map
 //! ours typed FILE                 sensor_combined and vehicle_attitude through derived
-//!                                 structs, one pass over a memory map (scan_topics)
+//!                                 structs, one pass over a memory map (scan_topics_only)
 //! ours typed-indexed FILE         the same through ULog::parse + ULog::read::<T>
 //! ours columns FILE [THREADS]     every topic into typed columns, read from the file in
 //!                                 one pass per thread (load_file_columns)
@@ -25,7 +27,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::process::ExitCode;
 
-use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+use ulog_core::typed::{ULogMessage, ULogTopics};
 use ulog_core::{
     FieldReader, FieldShape, LogWriter, MappedFile, NumericBlock, ScanRecord, Value, WriterOptions,
 };
@@ -51,6 +53,18 @@ fn framing(path: &str) -> Result<(), Failure> {
         log.subscriptions().len(),
         log.last_timestamp()
     );
+    Ok(())
+}
+
+fn scan_only(path: &str) -> Result<(), Failure> {
+    let file = MappedFile::open(path)?;
+    let mut data = 0u64;
+    let mut check = 0u64;
+    let summary = ulog_core::scan(file.bytes(), |r| {
+        data += 1;
+        check = check.wrapping_add(r.payload.len() as u64);
+    })?;
+    println!("messages={} data={data} check={check}", summary.messages);
     Ok(())
 }
 
@@ -168,24 +182,26 @@ struct VehicleAttitude {
 }
 
 impl SensorCombined {
-    /// Adds the timestamp and every value to the checksum.
+    /// Adds the timestamp and every value to the checksum, grouped as the yule_log
+    /// peer groups them (so that the two checksums are equal).
     #[inline]
     fn add_to(&self, sum: &mut f64) {
         *sum += self.timestamp as f64;
-        for v in self.gyro_rad.iter().chain(&self.accelerometer_m_s2) {
-            *sum += f64::from(*v);
-        }
+        *sum += self
+            .gyro_rad
+            .iter()
+            .chain(&self.accelerometer_m_s2)
+            .map(|v| f64::from(*v))
+            .sum::<f64>();
     }
 }
 
 impl VehicleAttitude {
-    /// Adds the timestamp and every value to the checksum.
+    /// Adds the timestamp and every value to the checksum, grouped as the yule_log
+    /// peer groups them.
     #[inline]
     fn add_to(&self, sum: &mut f64) {
-        *sum += self.timestamp as f64;
-        for v in &self.q {
-            *sum += f64::from(*v);
-        }
+        *sum += self.timestamp as f64 + self.q.iter().map(|v| f64::from(*v)).sum::<f64>();
     }
 }
 
@@ -201,15 +217,14 @@ fn typed(path: &str) -> Result<(), Failure> {
     let mut sum = 0.0f64;
     let mut rows = 0u64;
     let mut failed: Option<ulog_core::Error> = None;
-    ulog_core::scan_topics::<Topics, _>(file.bytes(), |record| match record {
-        Ok(TopicRecord::Message { message, .. }) => {
+    ulog_core::scan_topics_only::<Topics, _>(file.bytes(), |record| match record {
+        Ok(m) => {
             rows += 1;
-            match message {
+            match m.message {
                 Topics::Sensors(r) => r.add_to(&mut sum),
                 Topics::Attitude(r) => r.add_to(&mut sum),
             }
         }
-        Ok(TopicRecord::Raw { .. }) => {}
         Err(e) => failed = failed.take().or(Some(e)),
     })?;
     if let Some(e) = failed {
@@ -325,13 +340,14 @@ fn write(out: &str, messages: u64) -> Result<(), Failure> {
     Ok(())
 }
 
-const USAGE: &str = "usage: ours (framing|decode-stream|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
+const USAGE: &str = "usage: ours (framing|scan|decode-stream|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let a: Vec<&str> = args.iter().map(String::as_str).collect();
     let result = match a.as_slice() {
         ["framing", f] => framing(f),
+        ["scan", f] => scan_only(f),
         ["decode-stream", f] => decode_stream(f),
         ["decode-mmap", f] => decode_mmap(f),
         ["typed", f] => typed(f),

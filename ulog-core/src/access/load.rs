@@ -128,7 +128,10 @@ pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
 /// [`load_columns`] on this thread, of a file of `len` bytes (`u64::MAX`: unknown).
 fn load_one<R: Read>(src: R, len: u64) -> Result<LoadedColumns> {
     let mut tables = Tables::new(len);
-    let summary = scan_range(src, u64::MAX, |r| tables.push(&r))?;
+    let summary = scan_range(src, u64::MAX, |r| {
+        tables.push(&r);
+        true
+    })?;
     Ok(finish(summary, vec![tables]))
 }
 
@@ -231,6 +234,7 @@ fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<Loa
             }
             work[r.subscription] += per_row[r.subscription];
         }
+        true
     })?;
     let shares = Shares::new(&work, threads);
     let results: Vec<Result<(ScanSummary, Tables)>> = std::thread::scope(|s| {
@@ -240,10 +244,13 @@ fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<Loa
                 s.spawn(move || {
                     let file = File::open(path).map_err(io)?;
                     let mut tables = Tables::new(len);
+                    // Another thread's subscriptions are framed, not handed out.
                     let summary = scan_range(file, u64::MAX, |r| {
-                        if shares.owner(r.subscription) == k {
+                        let mine = shares.owner(r.subscription) == k;
+                        if mine {
                             tables.push(&r);
                         }
+                        mine
                     })?;
                     Ok((summary, tables))
                 })

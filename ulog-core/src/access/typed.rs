@@ -9,8 +9,11 @@ use std::collections::BinaryHeap;
 use crate::access::topic::Topic;
 use crate::error::{Error, ErrorKind, Result};
 use crate::read::log::ULog;
-use crate::read::scan::{scan, ScanRecord, ScanSummary};
-use crate::typed::{Plan, Subscription, TopicDispatcher, TopicRecord, ULogMessage, ULogTopics};
+use crate::read::scan::{scan, scan_filtered, ScanRecord, ScanSummary};
+use crate::typed::{
+    Plan, Subscription, TopicDispatcher, TopicMessage, TopicPlan, TopicRecord, ULogMessage,
+    ULogTopics,
+};
 
 /// The rows of one topic instance decoded into `T` (see [`Topic::decode`]).
 pub struct TypedRows<'l, 'a, T> {
@@ -344,4 +347,95 @@ where
         )));
     }
     slot
+}
+
+/// [`scan_topics`] for the topics the enum names only: their messages come decoded,
+/// in file order, and the records of every other subscription are framed (and
+/// counted in the summary) but not handed out, which makes them about as cheap as
+/// framing alone. A subscription whose format does not fit its variant yields one
+/// error (every difference), at its first record, and is skipped from then on.
+///
+/// ```
+/// # #[cfg(feature = "derive")] {
+/// use ulog_core::typed::{ULogMessage, ULogTopics};
+///
+/// #[derive(ULogMessage)]
+/// #[ulog(crate = "ulog_core")]
+/// struct VehicleAttitude { timestamp: u64, q: [f32; 4] }
+///
+/// #[derive(ULogTopics)]
+/// #[ulog(crate = "ulog_core")]
+/// enum Topics { Attitude(VehicleAttitude) }
+///
+/// let bytes = ulog_core::testing::sample_log();
+/// let mut stamps = Vec::new();
+/// ulog_core::scan_topics_only::<Topics, _>(&bytes, |m| {
+///     let Topics::Attitude(a) = m.unwrap().message;
+///     stamps.push(a.timestamp);
+/// })
+/// .unwrap();
+/// let log = ulog_core::ULog::parse(&bytes).unwrap();
+/// let topic = log.topic("vehicle_attitude", 0).unwrap();
+/// assert_eq!(stamps, topic.decode::<VehicleAttitude>().unwrap().iter()
+///     .map(|a| a.unwrap().timestamp).collect::<Vec<_>>());
+/// # }
+/// ```
+pub fn scan_topics_only<E, F>(data: &[u8], mut f: F) -> Result<ScanSummary>
+where
+    E: ULogTopics,
+    F: FnMut(Result<TopicMessage<E>>),
+{
+    // Per subscription: its plan, made at its first record (subscriptions without one
+    // are skipped after it, so they never come back here).
+    let mut plans: Vec<Option<TopicPlan>> = Vec::new();
+    scan_filtered(data, |r| {
+        let plan = match plans.get(r.subscription) {
+            Some(Some(plan)) => plan,
+            _ => match plan_only::<E, F>(&mut plans, &r, &mut f) {
+                Some(plan) => plan,
+                None => return false,
+            },
+        };
+        f(match E::decode(plan, r.payload) {
+            Ok(message) => Ok(TopicMessage {
+                offset: r.offset,
+                multi_id: r.multi_id,
+                message,
+            }),
+            Err(e) => Err(Error::new(ErrorKind::Decode(e), r.offset)),
+        });
+        true
+    })
+}
+
+/// Plans a subscription of [`scan_topics_only`] at its first record, reporting a
+/// format that does not fit its variant; `None`: the subscription is not read.
+#[cold]
+fn plan_only<'p, E, F>(
+    plans: &'p mut Vec<Option<TopicPlan>>,
+    r: &ScanRecord<'_, '_>,
+    f: &mut F,
+) -> Option<&'p TopicPlan>
+where
+    E: ULogTopics,
+    F: FnMut(Result<TopicMessage<E>>),
+{
+    let mut dispatcher = TopicDispatcher::<E>::new();
+    let slot = dispatcher.subscribe(r.name, r.layout?);
+    let plan = match dispatcher.subscription(slot)? {
+        Subscription::Planned(plan) => plan.clone(),
+        Subscription::Mismatched(m) => {
+            f(Err(Error::new(
+                ErrorKind::Mismatch(Box::new((**m).clone())),
+                r.subscribed_at,
+            )));
+            return None;
+        }
+        Subscription::Unnamed => return None,
+    };
+    if r.subscription >= plans.len() {
+        plans.resize(r.subscription + 1, None);
+    }
+    plans[r.subscription] = Some(plan);
+    plans[r.subscription].as_ref()
 }

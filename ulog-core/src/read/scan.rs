@@ -77,6 +77,8 @@ struct Driver {
     framer: Framer,
     messages: u64,
     data: u64,
+    /// Subscriptions whose records are no longer handed out (see [`scan_filtered`]).
+    skip: Vec<bool>,
 }
 
 #[inline(always)]
@@ -93,28 +95,61 @@ fn record<'s, 'p>(offset: u64, sub: u32, def: &'s SubDef, payload: &'p [u8]) -> 
     }
 }
 
+/// Hands the data message at `offset` (of subscription `sub`) to `f` unless the
+/// subscription is skipped, and skips it from now on when `f` says so.
+#[inline(always)]
+fn hand_out<'w, F>(
+    skip: &mut Vec<bool>,
+    offset: u64,
+    sub: u32,
+    def: &SubDef,
+    payload: &'w [u8],
+    f: &mut F,
+) where
+    F: FnMut(ScanRecord<'_, 'w>) -> bool,
+{
+    if skip.get(sub as usize) == Some(&true) {
+        return;
+    }
+    if !f(record(offset, sub, def, payload)) {
+        skip_sub(skip, sub as usize);
+    }
+}
+
+#[cold]
+fn skip_sub(skip: &mut Vec<bool>, sub: usize) {
+    if skip.len() <= sub {
+        skip.resize(sub + 1, false);
+    }
+    skip[sub] = true;
+}
+
 impl Driver {
     fn new() -> Driver {
         Driver {
             framer: Framer::new(),
             messages: 0,
             data: 0,
+            skip: Vec::new(),
         }
     }
 
-    /// Frames what `win` (the file from `base`) holds. `true`: the end of the file;
-    /// `false`: more bytes are needed.
+    /// Frames what `win` (the file from `base`) holds, handing each data message of
+    /// a subscription not yet skipped to `f`; `f` returning `false` skips the rest of
+    /// that subscription's. `true`: the end of the file; `false`: more bytes are
+    /// needed.
     #[inline]
     fn run<'w, F>(&mut self, win: &'w [u8], base: u64, eof: bool, f: &mut F) -> Result<bool>
     where
-        F: FnMut(ScanRecord<'_, 'w>),
+        F: FnMut(ScanRecord<'_, 'w>) -> bool,
     {
         loop {
             let mut n = 0u64;
+            let skip = &mut self.skip;
             self.framer
                 .plain_data_run(win, base, |offset, sub, def, payload| {
                     n += 1;
-                    f(record(offset, sub, def, payload));
+                    hand_out(skip, offset, sub, def, payload, f);
                 });
             self.messages += n;
             self.data += n;
@@ -125,12 +160,8 @@ impl Driver {
                         self.data += 1;
                         let start = (r.offset - base) as usize + MSG_HEADER_LEN;
                         let payload = &win[start..start + r.size as usize];
-                        f(record(
-                            r.offset,
-                            sub,
-                            &self.framer.subs[sub as usize],
-                            payload,
-                        ));
+                        let def = &self.framer.subs[sub as usize];
+                        hand_out(&mut self.skip, r.offset, sub, def, payload, f);
                     }
                 }
                 Step::NeedMore => return Ok(false),
@@ -187,6 +218,18 @@ pub fn scan<'a, F>(data: &'a [u8], mut f: F) -> Result<ScanSummary>
 where
     F: FnMut(ScanRecord<'_, 'a>),
 {
+    scan_filtered(data, |r| {
+        f(r);
+        true
+    })
+}
+
+/// [`scan`] where `f` returning `false` means "no more records of this
+/// subscription": they are framed (and counted in the summary) but not handed out.
+pub(crate) fn scan_filtered<'a, F>(data: &'a [u8], mut f: F) -> Result<ScanSummary>
+where
+    F: FnMut(ScanRecord<'_, 'a>) -> bool,
+{
     let mut driver = Driver::new();
     // The whole file is given (end of input): framing ends, and the summary covers
     // whatever it framed.
@@ -210,21 +253,25 @@ const READ_CHUNK: usize = 256 * 1024;
 /// assert_eq!(summary, ulog_core::scan(&bytes, |_| {})?);
 /// # Ok::<(), ulog_core::Error>(())
 /// ```
-pub fn scan_reader<R, F>(src: R, f: F) -> Result<ScanSummary>
+pub fn scan_reader<R, F>(src: R, mut f: F) -> Result<ScanSummary>
 where
     R: Read,
     F: FnMut(ScanRecord<'_, '_>),
 {
-    scan_range(src, u64::MAX, f)
+    scan_range(src, u64::MAX, |r| {
+        f(r);
+        true
+    })
 }
 
 /// [`scan_reader`] that may stop once framing has passed offset `stop` (then the
 /// summary covers only what was framed): every data message that starts before
-/// `stop` has been handed out, and some after it may have been.
+/// `stop` has been handed out, and some after it may have been. `f` returning `false`
+/// skips the rest of that subscription's records, as in [`scan_filtered`].
 pub(crate) fn scan_range<R, F>(mut src: R, stop: u64, mut f: F) -> Result<ScanSummary>
 where
     R: Read,
-    F: FnMut(ScanRecord<'_, '_>),
+    F: FnMut(ScanRecord<'_, '_>) -> bool,
 {
     let mut driver = Driver::new();
     // The file from `base` is `buf[start..end]`.
@@ -256,5 +303,59 @@ where
         };
         end += n;
         eof = n == 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::sample_log;
+
+    /// A subscription skipped after its `n`th record (`n` = its index mod 4) hands out
+    /// exactly its first `n` records (at least one: the one that said so), in both
+    /// scans, and the other subscriptions and the summary are unchanged.
+    #[test]
+    fn a_skipped_subscription_hands_out_nothing_more() {
+        let bytes = sample_log();
+        let mut all = Vec::new();
+        let summary = scan(&bytes, |r| all.push((r.offset, r.subscription))).unwrap();
+        let keep = |sub: usize| (sub % 4).max(1);
+        let mut counts = vec![0usize; summary.topics.len()];
+        let expected: Vec<(u64, usize)> = all
+            .iter()
+            .copied()
+            .filter(|&(_, sub)| {
+                counts[sub] += 1;
+                counts[sub] <= keep(sub)
+            })
+            .collect();
+        assert!(expected.len() < all.len());
+        for chunk in [None, Some(1), Some(7), Some(4096)] {
+            let mut seen = vec![0usize; summary.topics.len()];
+            let mut got = Vec::new();
+            let mut f = |r: ScanRecord<'_, '_>| {
+                got.push((r.offset, r.subscription));
+                seen[r.subscription] += 1;
+                seen[r.subscription] < keep(r.subscription)
+            };
+            let filtered = match chunk {
+                None => scan_filtered(&bytes, f).unwrap(),
+                Some(n) => scan_range(Chunks(&bytes, n), u64::MAX, &mut f).unwrap(),
+            };
+            assert_eq!(got, expected, "{chunk:?}");
+            assert_eq!(filtered, summary, "{chunk:?}");
+        }
+    }
+
+    /// Hands out at most `.1` bytes a read.
+    struct Chunks<'a>(&'a [u8], usize);
+
+    impl Read for Chunks<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.1.min(buf.len()).min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
     }
 }

@@ -29,7 +29,8 @@ pub use message::{BindingVisitor, ULogMessage};
 pub use plan::{Plan, PlanKind};
 pub use schema::{FieldDef, Schema};
 pub use topics::{
-    walk, Subscription, TopicDispatcher, TopicError, TopicPlan, TopicRecord, ULogTopics,
+    walk, Subscription, TopicDispatcher, TopicError, TopicMessage, TopicPlan, TopicRecord,
+    ULogTopics,
 };
 pub use wire::{ArrayElement, FieldKind, WireField};
 

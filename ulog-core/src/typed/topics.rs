@@ -142,6 +142,18 @@ pub enum TopicRecord<'a, E> {
     },
 }
 
+/// A message of a topic a [`ULogTopics`] enum names, decoded, as
+/// [`scan_topics_only`](crate::scan_topics_only) hands it out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TopicMessage<E> {
+    /// Byte offset of the data message's 3-byte header.
+    pub offset: u64,
+    /// The subscription's multi-instance id.
+    pub multi_id: u8,
+    /// The decoded message.
+    pub message: E,
+}
+
 /// What went wrong with one record of a walk.
 #[derive(Debug, Clone)]
 #[non_exhaustive]
