@@ -1,11 +1,67 @@
 //! The whole-file reader on arbitrary bytes: parse, then touch every topic's every
 //! column of every row, read its numbers in blocks (equal, bit for bit, to the
-//! one-field readers' values), and re-frame the messages.
+//! one-field readers' values), and re-frame the messages. Also: `scan_topics_only`
+//! hands out exactly the decoded records and errors of `scan_topics`, with the same
+//! summary (the other subscriptions skipped, not lost).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+
+#[derive(ULogMessage, Debug)]
+struct VehicleAttitude {
+    timestamp: u64,
+    q: [f32; 4],
+}
+
+/// Fits no PX4 `esc_status`: a mismatch, reported once.
+#[derive(ULogMessage, Debug)]
+struct EscStatus {
+    timestamp: u64,
+    esc_count: u64,
+}
+
+#[derive(ULogTopics, Debug)]
+enum Topics {
+    Attitude(VehicleAttitude),
+    Esc(EscStatus),
+}
+
+impl Topics {
+    /// What a record is compared by: its variant, timestamp and values.
+    fn key(&self) -> String {
+        match self {
+            Topics::Attitude(a) => format!("attitude {} {:?}", a.timestamp, a.q.map(f32::to_bits)),
+            Topics::Esc(e) => format!("esc {} {}", e.timestamp, e.esc_count),
+        }
+    }
+}
+
+/// `scan_topics` and `scan_topics_only` on `data`: the decoded records and errors of
+/// the one are those of the other, and so are the summaries.
+fn only_is_scan_topics_without_raw(data: &[u8]) {
+    let mut full = Vec::new();
+    let a = ulog_core::scan_topics::<Topics, _>(data, |r| match r {
+        Ok(TopicRecord::Message { multi_id, message }) => {
+            full.push(format!("{multi_id} {}", message.key()))
+        }
+        Ok(TopicRecord::Raw { .. }) => {}
+        Err(e) => full.push(format!("{e:?}")),
+    });
+    let mut only = Vec::new();
+    let b = ulog_core::scan_topics_only::<Topics, _>(data, |r| match r {
+        Ok(m) => only.push(format!("{} {}", m.multi_id, m.message.key())),
+        Err(e) => only.push(format!("{e:?}")),
+    });
+    assert_eq!(a.is_ok(), b.is_ok());
+    if let (Ok(a), Ok(b)) = (a, b) {
+        assert_eq!(a, b);
+        assert_eq!(full, only);
+    }
+}
 
 fuzz_target!(|data: &[u8]| {
+    only_is_scan_topics_without_raw(data);
     let Ok(log) = ulog_core::ULog::parse(data) else {
         return;
     };

@@ -266,7 +266,8 @@ impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
 /// parse, for reading each message once. The topics the enum names come decoded
 /// (plans made once per subscription), the others raw. A subscription whose format
 /// does not fit its variant yields one error (every difference) before its first
-/// record, which then comes raw like the rest.
+/// record, which then comes raw like the rest. When the other topics are not needed,
+/// [`scan_topics_only`] leaves them out, which is faster.
 ///
 /// ```
 /// # #[cfg(feature = "derive")] {
