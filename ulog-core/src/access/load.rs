@@ -219,10 +219,10 @@ fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<Loa
     if threads <= 1 {
         return load_one(File::open(path).map_err(io)?, len);
     }
-    // The work of a row, in units of about a column value's: the row itself (framing,
-    // hand-out, gathering) weighs about five values, then its values and the copy of
-    // its bytes. (With a row weighing one value, one thread finished 5-10% after
-    // the other on two large logs; with five, within the noise.)
+    // The work of a row, in units of about a column value's: the row itself (its
+    // hand-out and gathering; framing is the same for every thread) weighs about five
+    // values, then its values and the copy of its bytes. (Five rather than one, after
+    // timing each thread of a load of the two large benchmark logs.)
     let mut work: Vec<u64> = Vec::new();
     let mut per_row: Vec<u64> = Vec::new();
     scan_range(File::open(path).map_err(io)?, sample, |r| {

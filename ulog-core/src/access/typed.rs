@@ -352,9 +352,10 @@ where
 
 /// [`scan_topics`] for the topics the enum names only: their messages come decoded,
 /// in file order, and the records of every other subscription are framed (and
-/// counted in the summary) but not handed out, which makes them about as cheap as
-/// framing alone. A subscription whose format does not fit its variant yields one
-/// error (every difference), at its first record, and is skipped from then on.
+/// counted in the summary) but not handed out, which is cheaper. A subscription whose
+/// format does not fit its variant yields one error (every difference), at its first
+/// record, and is skipped from then on; one whose format could not be laid out is
+/// skipped (the summary's findings say why).
 ///
 /// ```
 /// # #[cfg(feature = "derive")] {

@@ -63,7 +63,9 @@ pub struct ScanSummary {
     pub flag_bits: Option<FlagBits>,
     /// Messages framed (of every type).
     pub messages: u64,
-    /// Data messages handed out.
+    /// Data messages of known subscriptions framed: every one is handed out by
+    /// [`scan`] and [`scan_reader`]; scans that skip topics (such as
+    /// [`scan_topics_only`](crate::scan_topics_only)) count the skipped ones too.
     pub data_messages: u64,
     /// Every subscription met, in the order of the `A` messages (the indexes of
     /// [`ScanRecord::subscription`]).
@@ -313,37 +315,49 @@ mod tests {
 
     /// A subscription skipped after its `n`th record (`n` = its index mod 4) hands out
     /// exactly its first `n` records (at least one: the one that said so), in both
-    /// scans, and the other subscriptions and the summary are unchanged.
+    /// scans, and the other subscriptions and the summary are unchanged: on the sample,
+    /// and on the sample with junk in the middle of its data (records after it are
+    /// framed while resynchronising, not on the plain path).
     #[test]
     fn a_skipped_subscription_hands_out_nothing_more() {
-        let bytes = sample_log();
-        let mut all = Vec::new();
-        let summary = scan(&bytes, |r| all.push((r.offset, r.subscription))).unwrap();
-        let keep = |sub: usize| (sub % 4).max(1);
-        let mut counts = vec![0usize; summary.topics.len()];
-        let expected: Vec<(u64, usize)> = all
-            .iter()
-            .copied()
-            .filter(|&(_, sub)| {
-                counts[sub] += 1;
-                counts[sub] <= keep(sub)
-            })
-            .collect();
-        assert!(expected.len() < all.len());
-        for chunk in [None, Some(1), Some(7), Some(4096)] {
-            let mut seen = vec![0usize; summary.topics.len()];
-            let mut got = Vec::new();
-            let mut f = |r: ScanRecord<'_, '_>| {
-                got.push((r.offset, r.subscription));
-                seen[r.subscription] += 1;
-                seen[r.subscription] < keep(r.subscription)
-            };
-            let filtered = match chunk {
-                None => scan_filtered(&bytes, f).unwrap(),
-                Some(n) => scan_range(Chunks(&bytes, n), u64::MAX, &mut f).unwrap(),
-            };
-            assert_eq!(got, expected, "{chunk:?}");
-            assert_eq!(filtered, summary, "{chunk:?}");
+        let sample = sample_log();
+        let mut offsets = Vec::new();
+        scan(&sample, |r| offsets.push(r.offset)).unwrap();
+        let mut damaged = sample.clone();
+        let at = offsets[offsets.len() / 2] as usize;
+        damaged.splice(at..at, [0xA5u8; 37]);
+        for (name, bytes) in [("sample", &sample), ("damaged", &damaged)] {
+            let mut all = Vec::new();
+            let summary = scan(bytes, |r| all.push((r.offset, r.subscription))).unwrap();
+            if name == "damaged" {
+                assert!(!summary.findings.is_empty());
+            }
+            let keep = |sub: usize| (sub % 4).max(1);
+            let mut counts = vec![0usize; summary.topics.len()];
+            let expected: Vec<(u64, usize)> = all
+                .iter()
+                .copied()
+                .filter(|&(_, sub)| {
+                    counts[sub] += 1;
+                    counts[sub] <= keep(sub)
+                })
+                .collect();
+            assert!(expected.len() < all.len());
+            for chunk in [None, Some(1), Some(7), Some(4096)] {
+                let mut seen = vec![0usize; summary.topics.len()];
+                let mut got = Vec::new();
+                let mut f = |r: ScanRecord<'_, '_>| {
+                    got.push((r.offset, r.subscription));
+                    seen[r.subscription] += 1;
+                    seen[r.subscription] < keep(r.subscription)
+                };
+                let filtered = match chunk {
+                    None => scan_filtered(bytes, f).unwrap(),
+                    Some(n) => scan_range(Chunks(bytes, n), u64::MAX, &mut f).unwrap(),
+                };
+                assert_eq!(got, expected, "{name} {chunk:?}");
+                assert_eq!(filtered, summary, "{name} {chunk:?}");
+            }
         }
     }
 

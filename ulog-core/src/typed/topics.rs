@@ -145,6 +145,7 @@ pub enum TopicRecord<'a, E> {
 /// A message of a topic a [`ULogTopics`] enum names, decoded, as
 /// [`scan_topics_only`](crate::scan_topics_only) hands it out.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct TopicMessage<E> {
     /// Byte offset of the data message's 3-byte header.
     pub offset: u64,
