@@ -44,16 +44,11 @@ enum Two {
 impl Two {
     /// The timestamp and every value, summed.
     fn sum(&self) -> f64 {
-        let (t, values) = match self {
-            Two::Sensors(s) => (s.timestamp, [&s.gyro_rad[..], &s.accelerometer_m_s2[..]]),
-            Two::Attitude(a) => (a.timestamp, [&a.q[..], &[][..]]),
-        };
-        t as f64
-            + values
-                .iter()
-                .flat_map(|v| v.iter())
-                .map(|&v| f64::from(v))
-                .sum::<f64>()
+        let sum = |v: &[f32]| v.iter().map(|&x| f64::from(x)).sum::<f64>();
+        match self {
+            Two::Sensors(s) => s.timestamp as f64 + sum(&s.gyro_rad) + sum(&s.accelerometer_m_s2),
+            Two::Attitude(a) => a.timestamp as f64 + sum(&a.q),
+        }
     }
 }
 

@@ -11,8 +11,8 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::read::log::ULog;
 use crate::read::scan::{scan, scan_filtered, ScanRecord, ScanSummary};
 use crate::typed::{
-    Plan, Subscription, TopicDispatcher, TopicMessage, TopicPlan, TopicRecord, ULogMessage,
-    ULogTopics,
+    Mismatch, Plan, Subscription, TopicDispatcher, TopicMessage, TopicPlan, TopicRecord,
+    ULogMessage, ULogTopics,
 };
 
 /// The rows of one topic instance decoded into `T` (see [`Topic::decode`]).
@@ -231,10 +231,7 @@ impl<'l, 'a, E: ULogTopics> Iterator for Walk<'l, 'a, E> {
             if let Some(Subscription::Mismatched(m)) = self.dispatcher.subscription(slot) {
                 if !self.reported.contains(&c.sub) {
                     self.reported.push(c.sub);
-                    let e = Error::new(
-                        ErrorKind::Mismatch(Box::new((**m).clone())),
-                        topic.subscription_offset(),
-                    );
+                    let e = mismatch_error(m, topic.subscription_offset());
                     self.cursors.push(Reverse(c));
                     return Some(Err(e));
                 }
@@ -342,10 +339,7 @@ where
     let slot = r.layout.map(|l| dispatcher.subscribe(r.name, l));
     slots[r.subscription] = Some(slot);
     if let Some(Subscription::Mismatched(m)) = slot.and_then(|s| dispatcher.subscription(s)) {
-        f(Err(Error::new(
-            ErrorKind::Mismatch(Box::new((**m).clone())),
-            r.subscribed_at,
-        )));
+        f(Err(mismatch_error(m, r.subscribed_at)));
     }
     slot
 }
@@ -422,15 +416,10 @@ where
     E: ULogTopics,
     F: FnMut(Result<TopicMessage<E>>),
 {
-    let mut dispatcher = TopicDispatcher::<E>::new();
-    let slot = dispatcher.subscribe(r.name, r.layout?);
-    let plan = match dispatcher.subscription(slot)? {
-        Subscription::Planned(plan) => plan.clone(),
+    let plan = match Subscription::of::<E>(r.name, r.layout?) {
+        Subscription::Planned(plan) => plan,
         Subscription::Mismatched(m) => {
-            f(Err(Error::new(
-                ErrorKind::Mismatch(Box::new((**m).clone())),
-                r.subscribed_at,
-            )));
+            f(Err(mismatch_error(&m, r.subscribed_at)));
             return None;
         }
         Subscription::Unnamed => return None,
@@ -440,4 +429,10 @@ where
     }
     plans[r.subscription] = Some(plan);
     plans[r.subscription].as_ref()
+}
+
+/// The error reporting that a subscription (its `A` message at `at`) does not fit
+/// its binding.
+fn mismatch_error(m: &Mismatch, at: u64) -> Error {
+    Error::new(ErrorKind::Mismatch(Box::new(m.clone())), at)
 }

@@ -66,6 +66,21 @@ pub enum Subscription {
     Unnamed,
 }
 
+impl Subscription {
+    /// What a subscription of message `name` with the log's `layout` becomes for the
+    /// enum `E`.
+    pub(crate) fn of<E: ULogTopics>(name: &str, layout: &Layout) -> Subscription {
+        match E::variant_of(name) {
+            None => Subscription::Unnamed,
+            Some(variant) => match E::plan(variant, layout) {
+                Some(Ok(plan)) => Subscription::Planned(plan),
+                Some(Err(mismatch)) => Subscription::Mismatched(Arc::new(mismatch)),
+                None => Subscription::Unnamed,
+            },
+        }
+    }
+}
+
 /// Plans of one [`ULogTopics`] enum for the subscriptions of one log, made once per
 /// subscription. The reader keeps the returned index per `msg_id`, so decoding a
 /// record looks nothing up by name.
@@ -93,15 +108,7 @@ impl<E: ULogTopics> TopicDispatcher<E> {
     /// Plans a subscription of message `name` with the log's `layout`; returns the
     /// slot to decode its records with.
     pub fn subscribe(&mut self, name: &str, layout: &Layout) -> usize {
-        let subscription = match E::variant_of(name) {
-            None => Subscription::Unnamed,
-            Some(variant) => match E::plan(variant, layout) {
-                Some(Ok(plan)) => Subscription::Planned(plan),
-                Some(Err(mismatch)) => Subscription::Mismatched(Arc::new(mismatch)),
-                None => Subscription::Unnamed,
-            },
-        };
-        self.slots.push(subscription);
+        self.slots.push(Subscription::of::<E>(name, layout));
         self.slots.len() - 1
     }
 
