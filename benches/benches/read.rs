@@ -1,7 +1,8 @@
 //! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
 //! of every field of every data message: message by message (`StreamReader`), in
 //! one pass (`scan_reader`, with field readers; the numbers only, with a `NumericRow`
-//! per message or a `NumericBlock` per topic) and from the parsed index; and the columnar load in one
+//! per message or a `NumericBlock` per topic, the blocks also through `scan` over the
+//! buffer) and from the parsed index; and the columnar load in one
 //! pass (`load_columns`) and from the index on one and two threads; and two topics
 //! (`sensor_combined`, `vehicle_attitude`) through derived structs in one pass, with
 //! the other topics handed out raw (`scan_topics`) or not at all (`scan_topics_only`).
@@ -17,7 +18,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
 use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
-use ulog_core::{FieldReader, Message, NumericBlock, NumericRow, StreamReader, ULog, Value};
+use ulog_core::{
+    FieldReader, Message, NumericBlock, NumericRow, ScanRecord, StreamReader, ULog, Value,
+};
 
 /// `sensor_combined`: timestamp, gyro and accelerometer.
 #[derive(ULogMessage)]
@@ -103,6 +106,23 @@ fn add(sum: &mut f64, v: Value<'_>) {
     }
 }
 
+/// The sum of `values` in four partial sums, so that the adds do not wait on each
+/// other (as `bench/`'s whole-process decode sums); one running sum would take longer
+/// than the decoding.
+fn sum4(values: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let mut quads = values.chunks_exact(4);
+    for q in &mut quads {
+        for k in 0..4 {
+            acc[k] += q[k];
+        }
+    }
+    for v in quads.remainder() {
+        acc[0] += *v;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
 /// Every field of every data message through the stream reader, leaves resolved once
 /// per subscription.
 fn decode_stream(bytes: &[u8]) -> f64 {
@@ -178,22 +198,22 @@ fn decode_rows(bytes: &[u8]) -> f64 {
         if let Some(row) = row {
             values.resize(row.width(), 0.0);
             row.read(r.payload, &mut values);
-            sum += values.iter().sum::<f64>();
+            sum += sum4(&values);
         }
     })
     .expect("reads");
     sum
 }
 
-/// Every number of every data message in one pass (`scan_reader`), through a
-/// `NumericBlock` per subscription (`char[N]` strings left out).
-fn decode_blocks(bytes: &[u8]) -> f64 {
+/// Every number of every data message in one pass, through a `NumericBlock` per
+/// subscription (`char[N]` strings left out): with `scan` over the buffer when
+/// `in_place` (as over a memory map), else with `scan_reader` (a copy into its window).
+fn decode_blocks(bytes: &[u8], in_place: bool) -> f64 {
+    type Blocks = Vec<Option<Option<NumericBlock>>>;
     fn add_rows(sum: &mut f64, block: &mut NumericBlock) {
-        *sum += block.decode().values().iter().sum::<f64>();
+        *sum += sum4(block.decode().values());
     }
-    let mut blocks: Vec<Option<Option<NumericBlock>>> = Vec::new();
-    let mut sum = 0.0;
-    ulog_core::scan_reader(bytes, |r| {
+    fn push(blocks: &mut Blocks, sum: &mut f64, r: &ScanRecord<'_, '_>) {
         if r.subscription >= blocks.len() {
             blocks.resize_with(r.subscription + 1, || None);
         }
@@ -201,10 +221,17 @@ fn decode_blocks(bytes: &[u8]) -> f64 {
             blocks[r.subscription].get_or_insert_with(|| r.layout.map(|l| NumericBlock::new(l)));
         if let Some(block) = block {
             if block.push(r.payload) {
-                add_rows(&mut sum, block);
+                add_rows(sum, block);
             }
         }
-    })
+    }
+    let mut blocks: Blocks = Vec::new();
+    let mut sum = 0.0;
+    if in_place {
+        ulog_core::scan(bytes, |r| push(&mut blocks, &mut sum, &r))
+    } else {
+        ulog_core::scan_reader(bytes, |r| push(&mut blocks, &mut sum, &r))
+    }
     .expect("reads");
     for block in blocks.iter_mut().flatten().flatten() {
         add_rows(&mut sum, block);
@@ -258,7 +285,10 @@ fn main() {
         b.iter(|| decode_rows(black_box(&bytes)))
     });
     group.bench_function("numbers only (scan_reader, NumericBlock)", |b| {
-        b.iter(|| decode_blocks(black_box(&bytes)))
+        b.iter(|| decode_blocks(black_box(&bytes), false))
+    });
+    group.bench_function("numbers only (scan, NumericBlock)", |b| {
+        b.iter(|| decode_blocks(black_box(&bytes), true))
     });
     group.bench_function("generic decode (parsed index)", |b| {
         b.iter(|| decode_index(black_box(&log)))

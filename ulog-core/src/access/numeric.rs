@@ -6,8 +6,9 @@
 //! type: one dispatch per type group, then straight loads and conversions.
 //!
 //! A [`NumericBlock`] goes further for a stream of one topic's payloads: it gathers
-//! them (a copy of each) and reads the block one column at a time, so that the type
-//! dispatch is paid once per block and every inner loop is a strided load and convert.
+//! them (a copy of each) and reads the block one column (or two adjacent columns of
+//! one type) at a time, so that the type dispatch is paid once per block and every
+//! inner loop is a strided load and convert.
 //! Over a whole log, a block per subscription, this costs a copy of each payload; on
 //! large logs it saves more than it costs, on a few MB that stay in the CPU's caches
 //! about as much (`cargo bench -p ulog-benches --bench read` measures both ways,
@@ -216,6 +217,23 @@ impl NumericRow {
         }
     }
 
+    /// Reads payloads of `stride` bytes each, laid end to end in `bytes`, into `values`
+    /// (of their number × width), column by column. Every column lies inside a payload
+    /// when `stride` reaches `end` (a block's stride, the layout's minimum size, does);
+    /// a shorter stride reads as [`NumericRow::fill`] does, NaN past the end.
+    #[inline]
+    fn fill_block(&self, bytes: &[u8], stride: usize, values: &mut [f64]) {
+        let width = self.columns.len();
+        if width == 0 || stride < self.end {
+            return self.fill(bytes.chunks_exact(stride.max(1)), values);
+        }
+        for g in &self.groups {
+            dispatch!(g.ty, |read| fill_strided(
+                &g.runs, bytes, stride, width, values, read
+            ));
+        }
+    }
+
     /// Reads every numeric column of `payload` into `row[..width]`. A column the
     /// payload is too short for (a message cut short) reads as NaN, and the result is
     /// then `false`.
@@ -357,8 +375,11 @@ impl NumericBlock {
         // Every value is written below: only a change of length is filled.
         self.values.resize(n * width, 0.0);
         if width > 0 && self.stride > 0 {
-            let payloads = self.bytes[..n * self.stride].chunks_exact(self.stride);
-            self.numbers.fill(payloads, &mut self.values);
+            self.numbers.fill_block(
+                &self.bytes[..n * self.stride],
+                self.stride,
+                &mut self.values,
+            );
             // A short payload was zero-filled to the stride: read again as it came
             // (NaN past its end).
             for &(row, len) in &self.short {
@@ -478,6 +499,46 @@ fn fill_rows<'p, const N: usize>(
                     Some(b) => read(b.try_into().unwrap_or([0; N])),
                     None => f64::NAN,
                 };
+            }
+        }
+    }
+}
+
+/// [`fill_rows`] over payloads of `stride` bytes that all hold every run (no check per
+/// value), two adjacent columns at a time where a run has them: one load and, for
+/// `float`s, one conversion instruction for the two. Against one column at a time, a
+/// whole-process decode of every value of the ≈300 MB logs of `bench/` (`ours
+/// decode-mmap`) took about 0.9× the time.
+#[inline(always)]
+fn fill_strided<const N: usize>(
+    runs: &[Run],
+    bytes: &[u8],
+    stride: usize,
+    width: usize,
+    values: &mut [f64],
+    read: impl Fn([u8; N]) -> f64,
+) {
+    let get = |b: &[u8]| -> [u8; N] { b.try_into().unwrap_or([0; N]) };
+    for r in runs {
+        let mut k = 0;
+        while k < r.count {
+            let at = r.offset + k * N;
+            let column = r.column + k;
+            let rows = bytes
+                .chunks_exact(stride)
+                .zip(values.chunks_exact_mut(width));
+            if k + 1 < r.count {
+                for (p, row) in rows {
+                    let (b, slots) = (&p[at..at + 2 * N], &mut row[column..column + 2]);
+                    slots[0] = read(get(&b[..N]));
+                    slots[1] = read(get(&b[N..]));
+                }
+                k += 2;
+            } else {
+                for (p, row) in rows {
+                    row[column] = read(get(&p[at..at + N]));
+                }
+                k += 1;
             }
         }
     }
@@ -672,6 +733,41 @@ mod tests {
             payloads.push(bytes(len, seed));
         }
         for capacity in [0, 1, 2, 5, 64, 1000, usize::MAX] {
+            check_block(&l, &payloads, capacity);
+        }
+    }
+
+    #[test]
+    fn a_block_reads_runs_of_every_length_and_type_as_rows_do() {
+        // Runs of one to five values of every type (read two columns at a time with
+        // one left over, or not), at odd offsets too: a `char` between them.
+        let types = [
+            "int8_t", "uint8_t", "bool", "int16_t", "uint16_t", "int32_t", "uint32_t", "float",
+            "int64_t", "uint64_t", "double",
+        ];
+        let mut text = String::from("t:uint64_t timestamp;");
+        for (i, ty) in types.iter().enumerate() {
+            for n in 1..=5 {
+                text += &format!("{ty}[{n}] a{i}_{n};char b{i}_{n};");
+            }
+        }
+        let l = layout(&text, &[]);
+        let numbers = NumericRow::of(&l);
+        assert_eq!(numbers.groups.len(), types.len() + 1, "and the `char`s");
+        for g in numbers.groups.iter().filter(|g| g.ty != BasicType::Char) {
+            let counts: Vec<usize> = g.runs.iter().map(|r| r.count).collect();
+            assert!(counts.iter().any(|c| c % 2 == 0), "{:?}: {counts:?}", g.ty);
+            assert!(counts.iter().any(|c| c % 2 == 1 && *c > 1), "{:?}", g.ty);
+        }
+        let mut payloads = Vec::new();
+        for seed in 1..200u64 {
+            let len = match seed % 5 {
+                0 => (seed as usize * 31) % l.min_size(),
+                _ => l.size(),
+            };
+            payloads.push(bytes(len, seed));
+        }
+        for capacity in [1, 3, 64] {
             check_block(&l, &payloads, capacity);
         }
     }

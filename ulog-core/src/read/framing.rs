@@ -20,6 +20,7 @@ use ulog_format::{Format, Layout, LayoutError, Limits, Resolver};
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::finding::{Corruption, Finding, FindingKind};
+use crate::read::prefetch::prefetch;
 use crate::read::timestamp::TimestampField;
 
 /// The 7 magic bytes that start every ULog file (`ULog` then 0x01 0x12 0x35).
@@ -224,6 +225,10 @@ fn min_size(t: u8) -> usize {
 /// The end (relative to `win`) and msg_id entry of the data message at `rel` when it
 /// is plain: a data message ending by `limit`, of a subscribed msg_id and a size its
 /// layout allows.
+/// How far ahead of the message being framed [`Framer::plain_data_run`] asks for the
+/// file's bytes.
+const PREFETCH_AHEAD: usize = 2048;
+
 #[inline(always)]
 fn plain_at(win: &[u8], rel: usize, limit: usize, by_id: &[IdEntry]) -> Option<(usize, IdEntry)> {
     let head = win.get(rel..rel + 5)?;
@@ -383,6 +388,7 @@ impl Framer {
         };
         let subs = &self.subs[..];
         while let Some((end, entry)) = plain_at(win, rel, limit, &self.by_id) {
+            prefetch(win, rel + PREFETCH_AHEAD);
             f(
                 base + rel as u64,
                 entry.sub,

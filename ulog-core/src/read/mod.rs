@@ -3,6 +3,7 @@ pub mod framing;
 pub mod iter;
 pub mod log;
 pub mod message;
+mod prefetch;
 pub mod scan;
 pub mod stream;
 pub mod timestamp;
