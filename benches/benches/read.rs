@@ -106,21 +106,21 @@ fn add(sum: &mut f64, v: Value<'_>) {
     }
 }
 
-/// The sum of `values` in four partial sums, so that the adds do not wait on each
+/// The sum of `values` in eight partial sums, so that the adds do not wait on each
 /// other (as `bench/`'s whole-process decode sums); one running sum would take longer
 /// than the decoding.
-fn sum4(values: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let mut quads = values.chunks_exact(4);
-    for q in &mut quads {
-        for k in 0..4 {
+fn sum8(values: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let mut lanes = values.chunks_exact(8);
+    for q in &mut lanes {
+        for k in 0..8 {
             acc[k] += q[k];
         }
     }
-    for v in quads.remainder() {
+    for v in lanes.remainder() {
         acc[0] += *v;
     }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
+    ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]))
 }
 
 /// Every field of every data message through the stream reader, leaves resolved once
@@ -198,7 +198,7 @@ fn decode_rows(bytes: &[u8]) -> f64 {
         if let Some(row) = row {
             values.resize(row.width(), 0.0);
             row.read(r.payload, &mut values);
-            sum += sum4(&values);
+            sum += sum8(&values);
         }
     })
     .expect("reads");
@@ -211,7 +211,7 @@ fn decode_rows(bytes: &[u8]) -> f64 {
 fn decode_blocks(bytes: &[u8], in_place: bool) -> f64 {
     type Blocks = Vec<Option<Option<NumericBlock>>>;
     fn add_rows(sum: &mut f64, block: &mut NumericBlock) {
-        *sum += sum4(block.decode().values());
+        *sum += sum8(block.decode().values());
     }
     fn push(blocks: &mut Blocks, sum: &mut f64, r: &ScanRecord<'_, '_>) {
         if r.subscription >= blocks.len() {

@@ -21,7 +21,7 @@
 //!
 //! Each prints `messages=N` (messages handled) and a `check=` sum of what it read, so
 //! that nothing is optimised away (the decode workloads, like the px4-ulog peer, sum in
-//! four partial sums, so that the adds do not wait on each other); `write` also prints `bytes=` (bytes written).
+//! eight partial sums, so that the adds do not wait on each other); `write` also prints `bytes=` (bytes written).
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -79,18 +79,19 @@ impl Decoder {
     /// Decodes the payloads gathered, and adds every field to the checksum.
     fn flush(&mut self, sum: &mut f64) {
         let rows = self.block.decode();
-        // Four partial sums, so that the adds do not wait on each other.
-        let mut acc = [0.0f64; 4];
-        let mut quads = rows.values().chunks_exact(4);
-        for q in &mut quads {
-            for k in 0..4 {
+        // Eight partial sums, so that the adds do not wait on each other.
+        let mut acc = [0.0f64; 8];
+        let mut lanes = rows.values().chunks_exact(8);
+        for q in &mut lanes {
+            for k in 0..8 {
                 acc[k] += q[k];
             }
         }
-        for v in quads.remainder() {
+        for v in lanes.remainder() {
             acc[0] += *v;
         }
-        let mut block = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+        let mut block =
+            ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
         if !self.strings.is_empty() {
             for i in 0..rows.len() {
                 for c in &self.strings {
