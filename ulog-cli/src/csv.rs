@@ -394,11 +394,9 @@ fn prefetch(data: &[u8], at: usize, len: usize) {
         prefetch_line(base.wrapping_add(end.saturating_sub(1)));
 
         #[inline(always)]
-        #[allow(unused_unsafe)]
         fn prefetch_line(p: *const u8) {
             // SAFETY: a prefetch is only a hint: it reads nothing and never faults, even
-            // for an address outside the mapping (none is: `p` is within `data`). The
-            // intrinsic is a safe function from Rust 1.87 on (hence `unused_unsafe`).
+            // for an address outside the mapping (none is: `p` is within `data`).
             unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast()) }
         }
     }

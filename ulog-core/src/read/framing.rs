@@ -222,13 +222,13 @@ fn min_size(t: u8) -> usize {
     }
 }
 
-/// The end (relative to `win`) and msg_id entry of the data message at `rel` when it
-/// is plain: a data message ending by `limit`, of a subscribed msg_id and a size its
-/// layout allows.
 /// How far ahead of the message being framed [`Framer::plain_data_run`] asks for the
 /// file's bytes.
 const PREFETCH_AHEAD: usize = 2048;
 
+/// The end (relative to `win`) and msg_id entry of the data message at `rel` when it
+/// is plain: a data message ending by `limit`, of a subscribed msg_id and a size its
+/// layout allows.
 #[inline(always)]
 fn plain_at(win: &[u8], rel: usize, limit: usize, by_id: &[IdEntry]) -> Option<(usize, IdEntry)> {
     let head = win.get(rel..rel + 5)?;
