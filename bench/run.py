@@ -212,26 +212,45 @@ def run_once(p, scratch):
     return wall, rss, kv, cpu
 
 
-def measure(p, runs, scratch):
-    walls, rsss, cpus, kv = [], [], [], {}
-    n = runs
-    i = 0
-    while i < n:
-        wall, rss, kv, cpu = run_once(p, scratch)
-        walls.append(wall)
-        cpus.append(cpu)
-        rsss.append(rss)
-        if i == 0 and wall > SLOW_SECONDS and n > SLOW_RUNS:
-            n = SLOW_RUNS
-        i += 1
-    return {
-        "runs": len(walls),
-        "median": statistics.median(walls),
-        "min": min(walls),
-        "cpu": statistics.median(cpus),
-        "rss": max(rsss),
-        "kv": kv,
-    }
+def measure(progs, runs, scratch):
+    """Runs every program of `progs` up to `runs` times, in rounds (each program once a
+    round, in turn), so that a slow spell of the machine falls on all of them rather
+    than on one program's runs: a list of results (None where a run failed), in order."""
+    state = [{"walls": [], "cpus": [], "rsss": [], "kv": {}, "n": runs, "error": None} for _ in progs]
+    for i in range(runs):
+        for p, s in zip(progs, state):
+            if s["error"] is not None or len(s["walls"]) >= s["n"]:
+                continue
+            try:
+                wall, rss, kv, cpu = run_once(p, scratch)
+            except Exception as e:  # a failing program is a row, and a failed run
+                log(f"   {p.workload}: {p.impl}: FAILED: {e}")
+                s["error"] = e
+                continue
+            s["walls"].append(wall)
+            s["cpus"].append(cpu)
+            s["rsss"].append(rss)
+            s["kv"] = kv
+            if i == 0 and wall > SLOW_SECONDS and s["n"] > SLOW_RUNS:
+                s["n"] = SLOW_RUNS
+        log(f"   round {i + 1} of {runs} done")
+    results = []
+    for p, s in zip(progs, state):
+        if s["error"] is not None or not s["walls"]:
+            results.append(None)
+            continue
+        r = {
+            "runs": len(s["walls"]),
+            "median": statistics.median(s["walls"]),
+            "min": min(s["walls"]),
+            "cpu": statistics.median(s["cpus"]),
+            "rss": max(s["rsss"]),
+            "kv": s["kv"],
+        }
+        log(f"   {p.workload}: {p.impl}: median {r['median']:.3f} s, "
+            f"peak RSS {r['rss'] / 2**20:.1f} MiB ({r['runs']} runs)")
+        results.append(r)
+    return results
 
 
 def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
@@ -465,7 +484,8 @@ def main():
         "Written by `bench/run` (see [bench/README.md](bench/README.md)); every row is a whole "
         "process, run on the same input in the same session. *median s*: median wall time of "
         f"the runs (default {runs}; a program slower than {SLOW_SECONDS:.0f} s on its first run runs "
-        f"at most {SLOW_RUNS} times); *MB/s*: input bytes (10⁶) per second; *M msg/s*: messages of "
+        f"at most {SLOW_RUNS} times), run in rounds: every program of an input once, in turn, then "
+        "again, so that a slow spell of the machine falls on all of them; *MB/s*: input bytes (10⁶) per second; *M msg/s*: messages of "
         "the file per second (for the typed workloads: the messages decoded); *CPU s*: median "
         "user + system time of the process (less sensitive than wall time to other load on "
         "the machine); *peak RSS*: "
@@ -495,17 +515,10 @@ def main():
         settle_page_cache(path)
         # Count the messages (our framing).
         msgs = int(run_once(Program("", "", [bins["ours"], "framing", path]), scratch)[2]["messages"])
-        results = []
-        for p in programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
-            log(f"   {p.workload}: {p.impl}")
-            try:
-                r = measure(p, runs, scratch)
-                log(f"      median {r['median']:.3f} s, peak RSS {r['rss'] / 2**20:.1f} MiB ({r['runs']} runs)")
-            except Exception as e:  # a failing program is a row, and a failed run
-                log(f"      FAILED: {e}")
-                r = None
-                failures += 1
-            results.append((p, r))
+        progs = programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset)
+        measured = measure(progs, runs, scratch)
+        failures += sum(1 for r in measured if r is None)
+        results = list(zip(progs, measured))
         doc += [f"## {label}", "", f"{size / 1e6:,.1f} MB, {msgs:,} messages.", ""]
         doc += table(results, size, msgs)
         if not parquet:
@@ -521,22 +534,22 @@ def main():
                  msgs_from_output=True, note=f"{write_n:,} sensor_combined rows to a file")
     log("== typed writing")
     try:
-        r = measure(wp, runs, scratch)
-        written = int(r["kv"].get("bytes", 0))
-        doc += [
-            "## Typed writing",
-            "",
-            "| workload | implementation | runs | median s | CPU s | MB/s written | M msg/s | peak RSS MiB | how |",
-            "|---|---|---:|---:|---:|---:|---:|---:|---|",
-            f"| typed writing | ours (LogWriter) | {r['runs']} | {fmt_s(r['median'])} | {fmt_s(r['cpu'])} | "
-            f"{written / r['median'] / 1e6:,.0f} | {write_n / r['median'] / 1e6:.1f} | "
-            f"{r['rss'] / 2**20:.1f} | {wp.note} ({written / 1e6:.0f} MB) |",
-            "",
-        ]
-    except Exception as e:
-        log(f"      FAILED: {e}")
-        failures += 1
-        doc += ["## Typed writing", "", "failed", ""]
+        r = measure([wp], runs, scratch)[0]
+        if r is None:
+            failures += 1
+            doc += ["## Typed writing", "", "failed", ""]
+        else:
+            written = int(r["kv"].get("bytes", 0))
+            doc += [
+                "## Typed writing",
+                "",
+                "| workload | implementation | runs | median s | CPU s | MB/s written | M msg/s | peak RSS MiB | how |",
+                "|---|---|---:|---:|---:|---:|---:|---:|---|",
+                f"| typed writing | ours (LogWriter) | {r['runs']} | {fmt_s(r['median'])} | {fmt_s(r['cpu'])} | "
+                f"{written / r['median'] / 1e6:,.0f} | {write_n / r['median'] / 1e6:.1f} | "
+                f"{r['rss'] / 2**20:.1f} | {wp.note} ({written / 1e6:.0f} MB) |",
+                "",
+            ]
     finally:
         if os.path.exists(out_file):
             os.remove(out_file)
