@@ -264,6 +264,8 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                      note="scan over a memory map: framing without the index (for reference)"))
     P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
                      note="scan_reader: read() in 256 KiB chunks, one pass"))
+    P.append(Program("generic decode", "ours (stream, read ahead)", [b["ours"], "decode-ahead", path],
+                     note="scan_reader_ahead: the same, the next 1 MiB read on a second thread"))
     P.append(Program("generic decode", "ours (mmap)", [b["ours"], "decode-mmap", path],
                      note="scan over a memory map, one pass"))
     if peers:
@@ -417,14 +419,17 @@ def targets(results, size):
 
     ratio("framing ≤ 1.5 × the floor", t("ours"), t("floor (header walk)"), 1.5)
     ratio("generic decode (stream) ≤ 0.5 × px4-ulog stream", t("ours (stream)"), t("px4-ulog 0.6 (stream)"), 0.5)
+    ratio("generic decode (stream, read ahead on a 2nd thread) ≤ 0.5 × px4-ulog stream",
+          t("ours (stream, read ahead)"), t("px4-ulog 0.6 (stream)"), 0.5)
     ratio("generic decode (mmap) ≤ 0.5 × px4-ulog stream", t("ours (mmap)"), t("px4-ulog 0.6 (stream)"), 0.5)
     ratio("typed decode ≤ 0.05 × yule_log derive", t("ours (derive)"), t("yule_log 0.4 (derive)"), 0.05)
     ratio("typed decode ≤ 2 × our framing", t("ours (derive)"), t("ours"), 2.0)
     ratio("columnar load ≤ 0.5 × px4-ulog full_parser", t("ours (2 threads)"), t("px4-ulog 0.6 (full_parser)"), 0.5)
     ratio("columnar load ≤ 0.05 × pyulog ULog(path)", t("ours (2 threads)"), t("pyulog 1.3 ULog(path)"), 0.05)
     ratio("columnar load peak RSS ≤ 1.2 × file size", rss("ours (2 threads)"), size, 1.2)
-    r = rss("ours (stream)")
-    out.append(("streaming decode peak RSS ≤ 16 MiB",
+    streams = [rss("ours (stream)"), rss("ours (stream, read ahead)")]
+    r = max(streams) if all(streams) else None
+    out.append(("streaming decode peak RSS ≤ 16 MiB (both stream rows)",
                 f"{r / 2**20:.1f} MiB" if r else "not measured", (r <= 16 * 2**20) if r else None))
     ratio("CSV export ≥ 10 × faster than ulog2csv", t("pyulog 1.3 ulog2csv"), t("ours (ulog csv)"), 10, le=False)
     ratio("columnar load on 2 cores ≥ 1.6 × faster than on 1", t("ours (1 thread)"), t("ours (2 threads)"), 1.6, le=False)

@@ -9,6 +9,8 @@
 //!                                 value: numbers through a NumericBlock per subscription
 //!                                 (64 payloads read column by column), `char[N]`
 //!                                 strings through FieldReader
+//! ours decode-ahead FILE          the same with scan_reader_ahead (the next chunk read
+//!                                 on a second thread while one is decoded)
 //! ours decode-mmap FILE           the same with scan over a memory map
 //! ours typed FILE                 sensor_combined and vehicle_attitude through derived
 //!                                 structs, one pass over a memory map (scan_topics_only)
@@ -140,11 +142,16 @@ impl Readers {
     }
 }
 
-fn decode_stream(path: &str) -> Result<(), Failure> {
+fn decode_stream(path: &str, ahead: bool) -> Result<(), Failure> {
     let file = File::open(path)?;
     let mut readers = Readers(Vec::new());
     let mut sum = 0.0f64;
-    let summary = ulog_core::scan_reader(file, |r| readers.add(&mut sum, &r))?;
+    let add = |r: ulog_core::ScanRecord<'_, '_>| readers.add(&mut sum, &r);
+    let summary = if ahead {
+        ulog_core::scan_reader_ahead(file, add)?
+    } else {
+        ulog_core::scan_reader(file, add)?
+    };
     readers.finish(&mut sum);
     println!(
         "messages={} data={} check={sum}",
@@ -341,7 +348,7 @@ fn write(out: &str, messages: u64) -> Result<(), Failure> {
     Ok(())
 }
 
-const USAGE: &str = "usage: ours (framing|scan|decode-stream|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
+const USAGE: &str = "usage: ours (framing|scan|decode-stream|decode-ahead|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -349,7 +356,8 @@ fn main() -> ExitCode {
     let result = match a.as_slice() {
         ["framing", f] => framing(f),
         ["scan", f] => scan_only(f),
-        ["decode-stream", f] => decode_stream(f),
+        ["decode-stream", f] => decode_stream(f, false),
+        ["decode-ahead", f] => decode_stream(f, true),
         ["decode-mmap", f] => decode_mmap(f),
         ["typed", f] => typed(f),
         ["typed-indexed", f] => typed_indexed(f),
