@@ -427,10 +427,14 @@ def targets(results, size):
     ratio("columnar load ≤ 0.5 × px4-ulog full_parser", t("ours (2 threads)"), t("px4-ulog 0.6 (full_parser)"), 0.5)
     ratio("columnar load ≤ 0.05 × pyulog ULog(path)", t("ours (2 threads)"), t("pyulog 1.3 ULog(path)"), 0.05)
     ratio("columnar load peak RSS ≤ 1.2 × file size", rss("ours (2 threads)"), size, 1.2)
-    streams = [rss("ours (stream)"), rss("ours (stream, read ahead)")]
-    r = max(streams) if all(streams) else None
-    out.append(("streaming decode peak RSS ≤ 16 MiB (both stream rows)",
-                f"{r / 2**20:.1f} MiB" if r else "not measured", (r <= 16 * 2**20) if r else None))
+    streams = {n: rss(n) for n in ("ours (stream)", "ours (stream, read ahead)") if rss(n)}
+    if streams:
+        worst = max(streams, key=streams.get)
+        r = streams[worst]
+        out.append((f"streaming decode peak RSS ≤ 16 MiB (the larger of the stream rows: {worst})",
+                    f"{r / 2**20:.1f} MiB", r <= 16 * 2**20))
+    else:
+        out.append(("streaming decode peak RSS ≤ 16 MiB", "not measured", None))
     ratio("CSV export ≥ 10 × faster than ulog2csv", t("pyulog 1.3 ulog2csv"), t("ours (ulog csv)"), 10, le=False)
     ratio("columnar load on 2 cores ≥ 1.6 × faster than on 1", t("ours (1 thread)"), t("ours (2 threads)"), 1.6, le=False)
     ratio("CSV export on 2 cores ≥ 1.6 × faster than on 1", t("ours (ulog csv, 1 core)"), t("ours (ulog csv)"), 1.6, le=False)

@@ -1,6 +1,7 @@
 //! The incremental reader fed arbitrary bytes in chunks of sizes chosen by the input:
 //! its messages and findings must equal the whole-file reader's. The one-pass scans
-//! (`scan` over the bytes, `scan_reader` over reads of those sizes) must hand out
+//! (`scan` over the bytes, `scan_reader` over reads of those sizes, and
+//! `scan_reader_ahead` over them with chunks and room the input chose) must hand out
 //! exactly its data messages, with the same findings.
 #![no_main]
 
@@ -75,6 +76,18 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         i: 0,
     };
     let scan_read = ulog_core::scan_reader(pieces, |r| read.push(r.offset));
+    let mut ahead = Vec::new();
+    let pieces = Pieces {
+        data,
+        sizes: &sizes,
+        i: 0,
+    };
+    let (chunk, room) = match sizes.as_slice() {
+        [c, r, ..] => (*c as usize % 600 + 1, *r as usize % 300),
+        _ => (4096, 1024),
+    };
+    let scan_ahead =
+        ulog_core::testing::scan_reader_ahead_in(pieces, chunk, room, |r| ahead.push(r.offset));
     match (expected, result) {
         (Ok(e), Ok(())) => {
             assert_eq!(e, got);
@@ -84,6 +97,8 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
             let (scan, scan_read) = (scan.unwrap(), scan_read.unwrap());
             assert_eq!(scanned, data_offsets);
             assert_eq!(read, data_offsets);
+            assert_eq!(ahead, data_offsets);
+            assert_eq!(scan_ahead.unwrap(), scan_read);
             assert_eq!(scan.findings, whole.findings());
             assert_eq!(scan, scan_read);
             assert_eq!(scan.messages as usize, e.len());
@@ -92,6 +107,7 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
             assert_eq!(a, b);
             assert_eq!(scan.unwrap_err(), a);
             assert_eq!(scan_read.unwrap_err(), a);
+            assert_eq!(scan_ahead.unwrap_err(), a);
         }
         (a, b) => panic!("whole {a:?} vs incremental {b:?}"),
     }

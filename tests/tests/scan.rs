@@ -1,4 +1,5 @@
-//! One-pass scans (`scan`, `scan_reader`, `scan_topics`, `scan_topics_only`) hand out
+//! One-pass scans (`scan`, `scan_reader`, `scan_reader_ahead`, `scan_topics`,
+//! `scan_topics_only`) hand out
 //! exactly the data messages the whole-file parse indexes, in file order, with the
 //! same findings, on every corpus log (damaged ones included) and however the bytes
 //! arrive.
@@ -100,23 +101,33 @@ fn scans_hand_out_what_the_parse_indexes() {
             assert_eq!(t.msg_id, topic.msg_id(), "{name}");
         }
 
-        for seed in [1, 2] {
+        // One thread, then reading ahead: with the library's chunks, and with small
+        // chunks and room (carried bytes that do not fit it take the slow way).
+        let sizes = [None, None, Some(None), Some(Some((997, 64)))];
+        for (seed, ahead) in (1..).zip(sizes) {
             let mut streamed: Vec<(u64, usize, Vec<u8>)> = Vec::new();
             let drip = Drip {
                 bytes: &bytes,
                 state: seed,
             };
-            let s = ulog_core::scan_reader(drip, |r| {
+            let push = |r: ulog_core::ScanRecord<'_, '_>| {
                 streamed.push((r.offset, r.subscription, r.payload.to_vec()))
-            })
+            };
+            let s = match ahead {
+                None => ulog_core::scan_reader(drip, push),
+                Some(None) => ulog_core::scan_reader_ahead(drip, push),
+                Some(Some((chunk, room))) => {
+                    ulog_core::testing::scan_reader_ahead_in(drip, chunk, room, push)
+                }
+            }
             .unwrap();
-            assert_eq!(s, summary, "{name}: streamed summary");
+            assert_eq!(s, summary, "{name}: streamed summary ({ahead:?})");
             assert!(
                 streamed
                     .iter()
                     .map(|(o, s, p)| (*o, *s, &p[..]))
                     .eq(expected.iter().copied()),
-                "{name}: streamed records"
+                "{name}: streamed records ({ahead:?})"
             );
         }
         checked += 1;

@@ -1,4 +1,5 @@
-//! Building raw ULog bytes message by message, for tests, examples and fuzz seeds.
+//! Building raw ULog bytes message by message, for tests, examples and fuzz seeds, and
+//! a few hooks for tests and fuzzing ([`scan_reader_ahead_in`]).
 //!
 //! This writes exactly the bytes it is told to, valid or not, so that tests can build
 //! damaged logs too. (Applications that log data use the writer, not this.)
@@ -255,4 +256,36 @@ pub fn sample_log() -> Vec<u8> {
     }
     b.log(b'6', 11_000_000, "[commander] Landing detected");
     b.into_bytes()
+}
+
+/// [`scan_reader_ahead`](crate::scan_reader_ahead) reading `chunk` bytes at a time (at
+/// least 1) with `room` bytes kept before each chunk for what framing still needs of
+/// the one before: small sizes take the path a file rarely takes, where those bytes
+/// do not fit the room. For tests and fuzzing.
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// let mut small = Vec::new();
+/// let summary = ulog_core::testing::scan_reader_ahead_in(&bytes[..], 5, 2, |r| {
+///     small.push(r.offset)
+/// })?;
+/// let mut plain = Vec::new();
+/// assert_eq!(summary, ulog_core::scan(&bytes, |r| plain.push(r.offset))?);
+/// assert_eq!(small, plain);
+/// # Ok::<(), ulog_core::Error>(())
+/// ```
+pub fn scan_reader_ahead_in<R, F>(
+    src: R,
+    chunk: usize,
+    room: usize,
+    mut f: F,
+) -> crate::Result<crate::ScanSummary>
+where
+    R: std::io::Read + Send,
+    F: FnMut(crate::ScanRecord<'_, '_>),
+{
+    crate::read::scan::read_ahead(src, chunk.max(1), room, &mut |r| {
+        f(r);
+        true
+    })
 }

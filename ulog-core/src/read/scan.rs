@@ -272,7 +272,8 @@ where
 const AHEAD_CHUNK: usize = 1 << 20;
 
 /// Room kept before each chunk [`scan_reader_ahead`] reads, for the bytes framing
-/// still needs from the chunk before (a message or two; more is moved the slow way).
+/// still needs from the chunk before (a message, or the few that framing checks
+/// while it resynchronises; more is moved the slow way).
 const CARRY_ROOM: usize = 128 * 1024;
 
 /// A chunk read ahead: the buffer (the bytes at `room..room + n`) and
@@ -284,10 +285,14 @@ type Chunk = std::io::Result<(Vec<u8>, usize)>;
 /// this takes the kernel's copy of the bytes off the thread that frames them: a
 /// decode of every value of the two large benchmark logs took 0.78–0.84× the wall
 /// time of [`scan_reader`], for 1.15–1.19× its CPU time. The same messages, summary
-/// and errors as [`scan_reader`], in about 2.5 MiB of buffers.
+/// and errors as [`scan_reader`], in about 2.3 MiB of buffers (3.5 MiB at most).
 ///
-/// The scan returns once the reading thread has: reading stops when the end of the
-/// file is framed, or at the first error.
+/// The scan returns once the reading thread has returned from its last read. After
+/// the end of the source or a read error it reads no more; when the scan stops
+/// earlier (a log refused at its start, a panic in `f`), the read under way still
+/// has to return: on a file at once, on a pipe or socket that stays open not until
+/// bytes arrive or it closes (where [`scan_reader`] would return at once). A thread
+/// that cannot be started is an [`ErrorKind::Io`] error.
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
@@ -311,7 +316,7 @@ where
 
 /// [`scan_reader_ahead`] reading `chunk` bytes at a time after `room` bytes kept for
 /// what framing still needs of the chunk before; `f` as in [`scan_filtered`].
-fn read_ahead<R, F>(src: R, chunk: usize, room: usize, f: &mut F) -> Result<ScanSummary>
+pub(crate) fn read_ahead<R, F>(src: R, chunk: usize, room: usize, f: &mut F) -> Result<ScanSummary>
 where
     R: Read + Send,
     F: FnMut(ScanRecord<'_, '_>) -> bool,
@@ -326,7 +331,11 @@ where
         for _ in 0..2 {
             let _ = free.send(vec![0u8; room + chunk]);
         }
-        s.spawn(move || fill_chunks(src, room, full_tx, free_rx));
+        let reader = std::thread::Builder::new().name("ulog read-ahead".to_owned());
+        if let Err(e) = reader.spawn_scoped(s, move || fill_chunks(src, room, full_tx, free_rx)) {
+            let e = format!("could not start the reading thread: {e}");
+            return Err(Error::new(ErrorKind::Io(e), 0));
+        }
         let mut driver = Driver::new();
         let mut cur = Vec::new();
         // The file from `base` is `cur[start..end]`; `read` bytes have been read.
@@ -336,13 +345,16 @@ where
             if driver.run(&cur[start..end], base, eof, f)? {
                 return Ok(driver.summary());
             }
+            // Keep what framing still needs (framing may be past the window: then
+            // nothing is kept, and the window's end is where the next chunk starts).
             let keep = driver.framer.keep_from().max(base);
-            let carry = start + ((keep - base) as usize).min(end - start)..end;
+            let drop = ((keep - base) as usize).min(end - start);
+            let carry = start + drop..end;
             let (mut next, n) = match full.recv() {
                 Ok(Ok(chunk)) => chunk,
                 Ok(Err(e)) => return Err(Error::new(ErrorKind::Io(e.to_string()), read)),
                 // The reader sends until the end or an error: it hung up early only
-                // if `src` panicked (the scope passes that panic on).
+                // if `src` panicked (the scope then panics too).
                 Err(_) => {
                     let e = ErrorKind::Io("the reading thread stopped".to_owned());
                     return Err(Error::new(e, read));
@@ -359,12 +371,13 @@ where
                 (start, end) = (0, joined.len());
                 let _ = free.try_send(std::mem::replace(&mut next, joined));
             }
-            base = keep;
+            base += drop as u64;
             read += n as u64;
             eof = n == 0;
             let done = std::mem::replace(&mut cur, next);
-            // A joined buffer is not of the reader's size; it goes. (`try_send`: a
-            // buffer the reader has no room for goes too, rather than wait.)
+            // Buffers of the reader's size go back to it (a joined one may happen to
+            // be one); others go. (`try_send`: one the reader has no room for goes
+            // too, rather than wait.)
             if done.len() == room + chunk {
                 let _ = free.try_send(done);
             }
@@ -372,8 +385,9 @@ where
     })
 }
 
-/// The reading thread of [`read_ahead`]: fills the buffers it is given, after
-/// `room` bytes, and sends them on, until the end of `src` or an error.
+/// The reading thread of [`read_ahead`]: reads into the buffers it is given, after
+/// `room` bytes, once each (what one read gives: a whole chunk from a file, what has
+/// arrived from a pipe), and sends them on, until the end of `src` or an error.
 fn fill_chunks<R: Read>(
     mut src: R,
     room: usize,
@@ -381,30 +395,15 @@ fn fill_chunks<R: Read>(
     free: std::sync::mpsc::Receiver<Vec<u8>>,
 ) {
     while let Ok(mut buf) = free.recv() {
-        let mut n = 0;
-        // Fill the chunk: a pipe hands out less at a time than a file.
-        let result = loop {
-            match src.read(&mut buf[room + n..]) {
-                Ok(0) => break Ok(()),
-                Ok(k) => {
-                    n += k;
-                    if room + n == buf.len() {
-                        break Ok(());
-                    }
-                }
+        let read = loop {
+            match src.read(&mut buf[room..]) {
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(e) => break Err(e),
+                other => break other,
             }
         };
-        // Bytes read before an error are framed before it is reported.
-        if (n > 0 || result.is_ok()) && full.send(Ok((buf, n))).is_err() {
-            return;
-        }
-        if let Err(e) = result {
-            let _ = full.send(Err(e));
-            return;
-        }
-        if n == 0 {
+        let last = !matches!(read, Ok(n) if n > 0);
+        let sent = full.send(read.map(|n| (buf, n)));
+        if sent.is_err() || last {
             return;
         }
     }
@@ -507,8 +506,8 @@ mod tests {
 
     /// Reading ahead hands out the same records (offset, subscription, payload) and
     /// summary as one thread, on the sample, the sample with junk in its data, and
-    /// the sample cut short: with chunks of every size, and with no room or little
-    /// room kept before a chunk (the bytes framing still needs then go the slow way).
+    /// the sample cut short: with chunks of several sizes down to one byte, and with
+    /// no room or little room kept before a chunk (the bytes framing still needs then go the slow way).
     #[test]
     fn reading_ahead_hands_out_what_one_thread_does() {
         let sample = sample_log();
@@ -537,22 +536,100 @@ mod tests {
         }
     }
 
+    /// Framing can jump past the bytes read so far: a message cut by the start of
+    /// appended data (its size runs past the appended offset) is left for the
+    /// appended data. The next chunk must then be placed where the window ended, not
+    /// where framing went: found by fuzzing.
+    #[test]
+    fn a_jump_to_appended_data_past_the_chunk_is_read_ahead_as_by_one_thread() {
+        use crate::testing::LogBuilder;
+        let build = |appended: u64| {
+            let mut b = LogBuilder::new(1, 0);
+            b.flag_bits([0; 8], [1, 0, 0, 0, 0, 0, 0, 0], [appended, 0, 0]);
+            b.format("big:uint64_t timestamp;uint8_t[20000] blob");
+            b.format("small:uint64_t timestamp;uint32_t x");
+            b.subscribe(0, 0, "big").subscribe(0, 1, "small");
+            let small = |b: &mut LogBuilder, t: u64| {
+                let mut p = t.to_le_bytes().to_vec();
+                p.extend_from_slice(&(t as u32).to_le_bytes());
+                b.data(1, &p);
+            };
+            for t in 1..20 {
+                small(&mut b, t);
+            }
+            let big_at = b.bytes().len() as u64;
+            b.data(0, &[7u8; 20008]);
+            let mut bytes = b.into_bytes();
+            // The appended data overwrote the big message 300 bytes in.
+            let at = big_at + 300;
+            bytes.truncate(at as usize);
+            let mut more = LogBuilder::new(1, 0);
+            for t in 20..60 {
+                small(&mut more, t);
+            }
+            bytes.extend_from_slice(&more.bytes()[16..]);
+            (at, bytes)
+        };
+        let (at, _) = build(0);
+        let (_, bytes) = build(at);
+        let mut expected = Vec::new();
+        let summary = scan(&bytes, |r| expected.push(r.offset)).unwrap();
+        assert_eq!(expected.len(), 59, "{:?}", summary.findings);
+        assert!(summary
+            .findings
+            .iter()
+            .any(|f| f.kind == crate::FindingKind::PartialBeforeAppended));
+        for (chunk, room) in [(64, 16), (100, 0), (299, 1024), (4096, 1024)] {
+            let mut got = Vec::new();
+            let ahead = read_ahead(Chunks(&bytes, 37), chunk, room, &mut |r| {
+                got.push(r.offset);
+                true
+            })
+            .unwrap();
+            assert_eq!(got, expected, "{chunk} {room}");
+            assert_eq!(ahead, summary, "{chunk} {room}");
+        }
+    }
+
     /// A read that fails is reported at the offset where it failed, as by one
-    /// thread, after the records of the bytes read before it.
+    /// thread, after the records of the bytes read before it: in one chunk or after
+    /// several.
     #[test]
     fn a_failed_read_ahead_is_the_error_one_thread_reports() {
         let sample = sample_log();
         for fail_at in [0, 10, sample.len() / 3, sample.len() - 1] {
             let mut plain = Vec::new();
             let e1 = scan_reader(Failing(&sample, fail_at), |r| plain.push(r.offset)).unwrap_err();
+            assert_eq!(e1.offset, fail_at as u64);
+            assert!(matches!(e1.kind, ErrorKind::Io(_)), "{e1}");
             let mut ahead = Vec::new();
             let e2 =
                 scan_reader_ahead(Failing(&sample, fail_at), |r| ahead.push(r.offset)).unwrap_err();
-            assert_eq!((e2.offset, &e2.kind), (e1.offset, &e1.kind), "{fail_at}");
-            assert_eq!(e2.offset, fail_at as u64);
-            assert!(matches!(e2.kind, ErrorKind::Io(_)), "{e2}");
-            assert_eq!(ahead, plain, "{fail_at}");
+            let mut small = Vec::new();
+            let e3 = read_ahead(Failing(&sample, fail_at), 64, 16, &mut |r| {
+                small.push(r.offset);
+                true
+            })
+            .unwrap_err();
+            for (e, got) in [(e2, ahead), (e3, small)] {
+                assert_eq!((e.offset, &e.kind), (e1.offset, &e1.kind), "{fail_at}");
+                assert_eq!(got, plain, "{fail_at}");
+            }
         }
+    }
+
+    /// A scan that stops before the end of an endless source returns: a source that
+    /// is not ULog, and a panic in `f` (passed on).
+    #[test]
+    fn a_scan_that_stops_early_lets_the_reading_thread_go() {
+        let e = scan_reader_ahead(std::io::repeat(0xA5), |_| {}).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::NotULog { .. }), "{e}");
+        let sample = sample_log();
+        let endless = (&sample[..]).chain(std::io::repeat(0));
+        let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            scan_reader_ahead(endless, |_| panic!("stop here"))
+        }));
+        assert!(panicked.is_err());
     }
 
     /// Hands out its bytes up to `.1`, then fails.
