@@ -457,19 +457,15 @@ mod tests {
     use crate::testing::sample_log;
 
     /// A subscription skipped after its `n`th record (`n` = its index mod 4) hands out
-    /// exactly its first `n` records (at least one: the one that said so), in both
-    /// scans, and the other subscriptions and the summary are unchanged: on the sample,
-    /// and on the sample with junk in the middle of its data (records after it are
-    /// framed while resynchronising, not on the plain path).
+    /// exactly its first `n` records (at least one: the one that said so), in every
+    /// scan (over the buffer, over reads of several sizes, read ahead), and the other
+    /// subscriptions and the summary are unchanged: on the sample, and on the sample
+    /// with junk in the middle of its data (records after it are framed while
+    /// resynchronising, not on the plain path).
     #[test]
     fn a_skipped_subscription_hands_out_nothing_more() {
-        let sample = sample_log();
-        let mut offsets = Vec::new();
-        scan(&sample, |r| offsets.push(r.offset)).unwrap();
-        let mut damaged = sample.clone();
-        let at = offsets[offsets.len() / 2] as usize;
-        damaged.splice(at..at, [0xA5u8; 37]);
-        for (name, bytes) in [("sample", &sample), ("damaged", &damaged)] {
+        let (sample, damaged, _) = sample_and_damaged();
+        for (name, bytes) in [("sample", &sample[..]), ("damaged", &damaged)] {
             let mut all = Vec::new();
             let summary = scan(bytes, |r| all.push((r.offset, r.subscription))).unwrap();
             if name == "damaged" {
@@ -486,7 +482,7 @@ mod tests {
                 })
                 .collect();
             assert!(expected.len() < all.len());
-            for chunk in [None, Some(1), Some(7), Some(4096)] {
+            for chunk in [None, Some(1), Some(7), Some(4096), Some(0)] {
                 let mut seen = vec![0usize; summary.topics.len()];
                 let mut got = Vec::new();
                 let mut f = |r: ScanRecord<'_, '_>| {
@@ -496,6 +492,8 @@ mod tests {
                 };
                 let filtered = match chunk {
                     None => scan_filtered(bytes, f).unwrap(),
+                    // Read ahead, in chunks of 64 with 16 bytes of room.
+                    Some(0) => read_ahead(Chunks(bytes, 50), 64, 16, &mut f).unwrap(),
                     Some(n) => scan_range(Chunks(bytes, n), u64::MAX, &mut f).unwrap(),
                 };
                 assert_eq!(got, expected, "{name} {chunk:?}");
@@ -504,18 +502,26 @@ mod tests {
         }
     }
 
-    /// Reading ahead hands out the same records (offset, subscription, payload) and
-    /// summary as one thread, on the sample, the sample with junk in its data, and
-    /// the sample cut short: with chunks of several sizes down to one byte, and with
-    /// no room or little room kept before a chunk (the bytes framing still needs then go the slow way).
-    #[test]
-    fn reading_ahead_hands_out_what_one_thread_does() {
+    /// The sample, the sample with 37 junk bytes inserted before the data message in
+    /// the middle of its data, and where they are.
+    fn sample_and_damaged() -> (Vec<u8>, Vec<u8>, usize) {
         let sample = sample_log();
         let mut offsets = Vec::new();
         scan(&sample, |r| offsets.push(r.offset)).unwrap();
         let mut damaged = sample.clone();
         let at = offsets[offsets.len() / 2] as usize;
         damaged.splice(at..at, [0xA5u8; 37]);
+        (sample, damaged, at)
+    }
+
+    /// Reading ahead hands out the same records (offset, subscription, payload) and
+    /// summary as one thread, on the sample, the sample with junk in its data, and
+    /// the sample cut short: with chunks of several sizes down to one byte, and with
+    /// no room or little room kept before a chunk (the bytes framing still needs then
+    /// go the slow way).
+    #[test]
+    fn reading_ahead_hands_out_what_one_thread_does() {
+        let (sample, damaged, at) = sample_and_damaged();
         let cut = &sample[..at + 5];
         for (name, bytes) in [("sample", &sample[..]), ("damaged", &damaged), ("cut", cut)] {
             let mut expected = Vec::new();
