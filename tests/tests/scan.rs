@@ -1,8 +1,7 @@
 //! One-pass scans (`scan`, `scan_reader`, `scan_reader_ahead`, `scan_topics`,
-//! `scan_topics_only`) hand out
-//! exactly the data messages the whole-file parse indexes, in file order, with the
-//! same findings, on every corpus log (damaged ones included) and however the bytes
-//! arrive.
+//! `scan_topics_only`) hand out exactly the data messages the whole-file parse
+//! indexes, in file order, with the same findings, on every corpus log (damaged ones
+//! included) and however the bytes arrive.
 
 use std::io::Read;
 

@@ -331,6 +331,15 @@ impl Framer {
         }
     }
 
+    /// How many bytes at the front of a window of `len` bytes from offset `base`
+    /// framing no longer needs. At most `len`: framing may be past the window (a jump
+    /// to appended data), and then the window's end is still where the bytes that
+    /// follow it start.
+    pub fn done_with(&self, base: u64, len: usize) -> usize {
+        let keep = self.keep_from().max(base);
+        usize::try_from(keep - base).map_or(len, |d| d.min(len))
+    }
+
     pub fn sub_index(&self, msg_id: u16) -> Option<u32> {
         let i = self.by_id[msg_id as usize].sub;
         (i != NO_SUB).then_some(i)

@@ -5,5 +5,6 @@ pub mod log;
 pub mod message;
 mod prefetch;
 pub mod scan;
+mod source;
 pub mod stream;
 pub mod timestamp;

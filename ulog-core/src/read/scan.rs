@@ -17,6 +17,7 @@ use ulog_format::{Layout, LayoutError};
 use crate::error::{Error, ErrorKind, Result};
 use crate::finding::Finding;
 use crate::read::framing::{FlagBits, Framer, Header, Step, SubDef, MSG_HEADER_LEN};
+use crate::read::source::read_some;
 
 /// A data message met by a scan.
 #[derive(Debug, Clone, Copy)]
@@ -338,17 +339,16 @@ where
         }
         let mut driver = Driver::new();
         let mut cur = Vec::new();
-        // The file from `base` is `cur[start..end]`; `read` bytes have been read.
-        let (mut start, mut end, mut base, mut read) = (0usize, 0usize, 0u64, 0u64);
+        // The file from `base` is `cur[start..end]`, the bytes read so far.
+        let (mut start, mut end, mut base) = (0usize, 0usize, 0u64);
         let mut eof = false;
         loop {
             if driver.run(&cur[start..end], base, eof, f)? {
                 return Ok(driver.summary());
             }
-            // Keep what framing still needs (framing may be past the window: then
-            // nothing is kept, and the window's end is where the next chunk starts).
-            let keep = driver.framer.keep_from().max(base);
-            let drop = ((keep - base) as usize).min(end - start);
+            // Carry what framing still needs into the next chunk.
+            let read = base + (end - start) as u64;
+            let drop = driver.framer.done_with(base, end - start);
             let carry = start + drop..end;
             let (mut next, n) = match full.recv() {
                 Ok(Ok(chunk)) => chunk,
@@ -372,7 +372,6 @@ where
                 let _ = free.try_send(std::mem::replace(&mut next, joined));
             }
             base += drop as u64;
-            read += n as u64;
             eof = n == 0;
             let done = std::mem::replace(&mut cur, next);
             // Buffers of the reader's size go back to it (a joined one may happen to
@@ -395,12 +394,7 @@ fn fill_chunks<R: Read>(
     free: std::sync::mpsc::Receiver<Vec<u8>>,
 ) {
     while let Ok(mut buf) = free.recv() {
-        let read = loop {
-            match src.read(&mut buf[room..]) {
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                other => break other,
-            }
-        };
+        let read = read_some(&mut src, &mut buf[room..]);
         let last = !matches!(read, Ok(n) if n > 0);
         let sent = full.send(read.map(|n| (buf, n)));
         if sent.is_err() || last {
@@ -429,8 +423,7 @@ where
             return Ok(driver.summary());
         }
         // Keep what framing still needs, at the front, then read behind it.
-        let keep = driver.framer.keep_from().max(base);
-        let drop = ((keep - base) as usize).min(end - start);
+        let drop = driver.framer.done_with(base, end - start);
         start += drop;
         base += drop as u64;
         buf.copy_within(start..end, 0);
@@ -439,13 +432,8 @@ where
         if buf.len() - end < READ_CHUNK {
             buf.resize(end + READ_CHUNK, 0);
         }
-        let n = loop {
-            match src.read(&mut buf[end..]) {
-                Ok(n) => break n,
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(Error::new(ErrorKind::Io(e.to_string()), base + end as u64)),
-            }
-        };
+        let n = read_some(&mut src, &mut buf[end..])
+            .map_err(|e| Error::new(ErrorKind::Io(e.to_string()), base + end as u64))?;
         end += n;
         eof = n == 0;
     }

@@ -16,6 +16,7 @@ use crate::finding::Finding;
 use crate::read::framing::{Framer, Header, Record, Step, MSG_HEADER_LEN};
 use crate::read::iter::MessageAt;
 use crate::read::message::Message;
+use crate::read::source::read_some;
 
 /// What [`Incremental::advance`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,8 +91,7 @@ impl Incremental {
     }
 
     fn compact(&mut self) {
-        let keep = self.framer.keep_from().max(self.base);
-        let drop = ((keep - self.base) as usize).min(self.buf.len());
+        let drop = self.framer.done_with(self.base, self.buf.len());
         if drop > 0 {
             self.buf.drain(..drop);
             self.base += drop as u64;
@@ -193,18 +193,12 @@ impl<R: Read> StreamReader<R> {
                 Status::Ready => break,
                 Status::End => return Ok(None),
                 Status::NeedMore => {
-                    let n = loop {
-                        match self.src.read(&mut self.chunk) {
-                            Ok(n) => break n,
-                            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                            Err(e) => {
-                                return Err(Error::new(
-                                    ErrorKind::Io(e.to_string()),
-                                    self.inner.base + self.inner.buf.len() as u64,
-                                ))
-                            }
-                        }
-                    };
+                    let n = read_some(&mut self.src, &mut self.chunk).map_err(|e| {
+                        Error::new(
+                            ErrorKind::Io(e.to_string()),
+                            self.inner.base + self.inner.buf.len() as u64,
+                        )
+                    })?;
                     if n == 0 {
                         self.inner.finish();
                     } else {
