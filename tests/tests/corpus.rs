@@ -252,7 +252,7 @@ fn check_summary(path: &std::path::Path) {
             .timestamps()
             .into_iter()
             .zip(t.message_offsets())
-            .filter(|(_, &o)| !recovered.iter().any(|&(a, b)| a <= o && o < b))
+            .filter(|&(_, o)| !recovered.iter().any(|&(a, b)| a <= o && o < b))
             .map(|(ts, _)| ts)
             .collect();
         assert_eq!(e["rows"], J::from(ts.len()), "{tn}: rows");
@@ -341,7 +341,7 @@ fn check_csv(path: &std::path::Path) -> usize {
                     ours += 1;
                     break;
                 }
-                let o = offsets[ours];
+                let o = offsets.get(ours).unwrap();
                 assert!(
                     recovered.iter().any(|&(a, b)| a <= o && o < b),
                     "{}: row {row}: pyulog {line:?}, ours {:?} (offset {o})",
@@ -364,7 +364,7 @@ fn check_csv(path: &std::path::Path) -> usize {
             }
         }
         while ours < t.len() {
-            let o = offsets[ours];
+            let o = offsets.get(ours).unwrap();
             assert!(
                 recovered.iter().any(|&(a, b)| a <= o && o < b),
                 "{}: we have more rows than pyulog",

@@ -27,7 +27,7 @@ fn logs() -> Vec<(String, Vec<u8>)> {
 fn indexed<'a>(log: &ULog<'a>) -> Vec<(u64, usize, &'a [u8])> {
     let mut all: Vec<(u64, usize, &'a [u8])> = Vec::new();
     for (i, topic) in log.topics().enumerate() {
-        for (p, &o) in topic.payloads().zip(topic.message_offsets()) {
+        for (p, o) in topic.payloads().zip(topic.message_offsets()) {
             all.push((o, i, p));
         }
     }

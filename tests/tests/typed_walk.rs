@@ -105,7 +105,7 @@ fn walks_in_file_order_and_by_timestamp() {
     let mut offsets: Vec<(u64, u64)> = Vec::new();
     for t in log.topics() {
         let ts = t.timestamps();
-        offsets.extend(t.message_offsets().iter().copied().zip(ts));
+        offsets.extend(t.message_offsets().iter().zip(ts));
     }
     offsets.sort();
     assert_eq!(file, offsets.iter().map(|(_, t)| *t).collect::<Vec<_>>());

@@ -355,3 +355,35 @@ fn crash_data_is_appended_as_the_spec_describes() {
     .unwrap();
     assert_eq!(e.kind, ErrorKind::NoFlagBits);
 }
+
+/// Found by the roundtrip fuzz target: text with a NUL was written, then read as
+/// corruption and dropped. Text a reader would drop is refused when written, and
+/// the text readers accept reads back.
+#[test]
+fn logged_text_readers_would_drop_is_refused_and_the_rest_reads_back() {
+    let mut w = LogWriter::new(Vec::new(), 0).unwrap();
+    w.subscribe::<Everything>(0).unwrap();
+    let mut data = w.start_data().unwrap();
+    let before = data.position();
+    let e = data.log(LogLevel::Info, 1, "ok\0no").unwrap_err();
+    assert_eq!(e.kind, ErrorKind::ControlCharacter { at: 2, byte: 0 });
+    assert_eq!(e.offset, before);
+    assert!(e.to_string().contains("0x00 at byte 2"), "{e}");
+    let e = data
+        .tagged_log(LogLevel::Info, 3, 1, "bell\x07")
+        .unwrap_err();
+    assert_eq!(e.kind, ErrorKind::ControlCharacter { at: 4, byte: 7 });
+    assert_eq!(data.position(), before, "nothing written");
+    let kept = "tab\t, lines\r\n, \x1b[1mescape\x1b[0m, ünïcode";
+    data.log(LogLevel::Warning, 2, kept).unwrap();
+    data.tagged_log(LogLevel::Error, 4, 3, kept).unwrap();
+    let bytes = data.finish().unwrap();
+    let log = ULog::parse(&bytes).unwrap();
+    assert!(log.findings().is_empty(), "{:?}", log.findings());
+    let texts: Vec<&str> = log
+        .logged_messages()
+        .iter()
+        .map(|l| l.text.as_str().unwrap())
+        .collect();
+    assert_eq!(texts, [kept, kept]);
+}

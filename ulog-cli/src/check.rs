@@ -223,7 +223,7 @@ fn timestamp_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
         let stamps: Vec<(u64, u64)> = topic
             .payloads()
             .zip(topic.message_offsets())
-            .filter_map(|(p, &o)| u.push(p).map(|t| (t, o)))
+            .filter_map(|(p, o)| u.push(p).map(|t| (t, o)))
             .collect();
         if stamps.len() < 2 {
             continue;

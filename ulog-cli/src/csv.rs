@@ -348,15 +348,14 @@ fn write_topic(
     let mut pending = 0;
     // The messages of a topic are scattered over the file: each row would wait for
     // memory (and an address translation) if it were not fetched early.
-    let offsets = &topic.message_offsets()[rows.clone()];
+    let mut ahead = topic
+        .message_offsets()
+        .slice(rows.clone())
+        .iter()
+        .skip(AHEAD);
     let span = BEFORE_PAYLOAD + topic.payload(0).map_or(0, |p| p.len());
-    for (k, p) in topic
-        .payloads()
-        .skip(rows.start)
-        .take(rows.len())
-        .enumerate()
-    {
-        if let Some(&o) = offsets.get(k + AHEAD) {
+    for p in topic.payloads_in(rows.clone()) {
+        if let Some(o) = ahead.next() {
             prefetch(data, o as usize, span);
         }
         if pos > limit {

@@ -75,6 +75,15 @@ pub enum ErrorKind {
     /// Writing: an information or parameter name that is empty or holds a character
     /// outside `a-z A-Z 0-9 _ - /`.
     InvalidName(String),
+    /// Writing: a logged string holds a control character other than tab, line feed,
+    /// carriage return and escape, at byte `at` of the text. Readers (this one among
+    /// them) take such a message in the data section for corruption.
+    ControlCharacter {
+        /// Byte offset in the text.
+        at: usize,
+        /// The byte.
+        byte: u8,
+    },
     /// Appending: the log has no flag bits message (version 0 logs cannot take
     /// appended data).
     NoFlagBits,
@@ -184,6 +193,10 @@ impl fmt::Display for ErrorKind {
             ErrorKind::InvalidName(n) => write!(
                 f,
                 "invalid name {n:?}: names are non-empty and use a-z A-Z 0-9 _ - /"
+            ),
+            ErrorKind::ControlCharacter { at, byte } => write!(
+                f,
+                "logged text holds control character {byte:#04x} at byte {at}: readers take it for corruption (tab, line feed, carriage return and escape are allowed)"
             ),
             ErrorKind::NoFlagBits => write!(
                 f,

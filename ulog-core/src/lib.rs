@@ -61,6 +61,7 @@ pub use read::log::{
     UnknownMessage,
 };
 pub use read::message::{KeyValue, LogLevel, LogMessage, Message};
+pub use read::offsets::{MessageOffsets, OffsetsIter};
 pub use read::scan::{scan, scan_reader, scan_reader_ahead, ScanRecord, ScanSummary, ScanTopic};
 pub use read::stream::{Incremental, Status, StreamReader};
 pub use read::timestamp::{TimestampField, Unwrapper};

@@ -122,7 +122,7 @@ impl<'l, 'a> Checker<'l, 'a> {
                     ours += 1;
                     break;
                 }
-                let o = offsets[ours];
+                let o = offsets.get(ours).unwrap();
                 if !in_recovered(o) {
                     let mut typed = Vec::new();
                     decode(ours, &mut |path, value| {
@@ -146,7 +146,7 @@ impl<'l, 'a> Checker<'l, 'a> {
         }
         while ours < topic.len() {
             assert!(
-                in_recovered(offsets[ours]),
+                in_recovered(offsets.get(ours).unwrap()),
                 "{}: we have more rows than pyulog",
                 csv.display()
             );

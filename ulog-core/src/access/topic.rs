@@ -9,6 +9,7 @@ use ulog_format::{BasicType, Layout, LayoutType, LeafKind};
 use crate::error::{Error, ErrorKind, Result};
 use crate::read::framing::MSG_HEADER_LEN;
 use crate::read::log::{Subscription, ULog};
+use crate::read::offsets::MessageOffsets;
 use crate::read::timestamp::{TimestampField, Unwrapper};
 use crate::value::{Array, Str, Value};
 
@@ -136,22 +137,35 @@ impl<'l, 'a> Topic<'l, 'a> {
     }
 
     /// Byte offsets of the data messages (of their 3-byte headers), in file order.
-    pub fn message_offsets(&self) -> &'l [u64] {
-        &self.sub.records
+    pub fn message_offsets(&self) -> MessageOffsets<'l> {
+        self.sub.records.view()
     }
 
     /// The payload of data message `i` (after the msg_id).
     pub fn payload(&self, i: usize) -> Option<&'a [u8]> {
-        self.sub
-            .records
+        self.message_offsets()
             .get(i)
-            .map(|&o| payload_at(self.log.data(), o))
+            .map(|o| payload_at(self.log.data(), o))
     }
 
     /// The payloads of every data message, in file order, borrowed from the file.
     pub fn payloads(&self) -> impl ExactSizeIterator<Item = &'a [u8]> + 'l {
+        self.payloads_in(0..self.len())
+    }
+
+    /// The payloads of data messages `rows`, in file order.
+    ///
+    /// # Panics
+    /// If `rows` is out of bounds, as slicing is.
+    pub fn payloads_in(
+        &self,
+        rows: core::ops::Range<usize>,
+    ) -> impl ExactSizeIterator<Item = &'a [u8]> + 'l {
         let data = self.log.data();
-        self.sub.records.iter().map(move |&o| payload_at(data, o))
+        self.message_offsets()
+            .slice(rows)
+            .iter()
+            .map(move |o| payload_at(data, o))
     }
 
     /// Where the timestamp field is, if the format has one.

@@ -45,7 +45,7 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
     /// Row `i`, decoded.
     pub fn get(&self, i: usize) -> Option<Result<T>> {
         let payload = self.topic.payload(i)?;
-        let offset = self.topic.message_offsets()[i];
+        let offset = self.topic.message_offsets().get(i)?;
         Some(
             self.plan
                 .decode(payload)
@@ -58,7 +58,7 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
     /// out.
     pub fn iter(&self) -> impl ExactSizeIterator<Item = Result<T>> + '_ {
         let offsets = self.topic.message_offsets();
-        self.topic.payloads().zip(offsets).map(move |(p, &o)| {
+        self.topic.payloads().zip(offsets).map(move |(p, o)| {
             self.plan
                 .decode(p)
                 .map_err(|e| Error::new(ErrorKind::Decode(e), o))
@@ -76,7 +76,7 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
             + 'a,
     {
         let offsets = self.topic.message_offsets();
-        self.topic.payloads().zip(offsets).map(move |(p, &o)| {
+        self.topic.payloads().zip(offsets).map(move |(p, o)| {
             self.plan
                 .view(p)
                 .map_err(|e| Error::new(ErrorKind::Decode(e), o))
@@ -206,7 +206,7 @@ pub struct Walk<'l, 'a, E> {
 impl<'l, 'a, E> Walk<'l, 'a, E> {
     fn push_cursor(&mut self, sub: usize, row: usize) {
         let topic = self.log.topic_at(sub);
-        let Some(&offset) = topic.message_offsets().get(row) else {
+        let Some(offset) = topic.message_offsets().get(row) else {
             return;
         };
         let key = self.times[sub].get(row).copied().unwrap_or(offset);

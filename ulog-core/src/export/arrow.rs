@@ -22,6 +22,7 @@ use ulog_format::{BasicType, LayoutField, LayoutType};
 
 use crate::access::topic::{FieldShape, Topic};
 use crate::error::{Error, ErrorKind, Result};
+use crate::read::offsets::MessageOffsets;
 
 use super::{latin1, Options};
 
@@ -249,10 +250,14 @@ impl TopicTable {
         })
     }
 
-    /// The record batch of `payloads` (rows of the topic, in order), starting at
-    /// file offset `offsets[0]` (for errors).
-    pub(crate) fn batch(&self, payloads: &[&[u8]], offsets: &[u64]) -> Result<RecordBatch> {
-        for (p, &o) in payloads.iter().zip(offsets) {
+    /// The record batch of `payloads` (rows of the topic, in order), at file offsets
+    /// `offsets` (for errors).
+    pub(crate) fn batch(
+        &self,
+        payloads: &[&[u8]],
+        offsets: MessageOffsets<'_>,
+    ) -> Result<RecordBatch> {
+        for (p, o) in payloads.iter().zip(offsets) {
             if p.len() < self.needed {
                 return Err(Error::new(
                     ErrorKind::PayloadSize {

@@ -250,7 +250,7 @@ fn write_table(
         let step = options.batch_rows.max(1);
         for start in (0..payloads.len()).step_by(step) {
             let end = (start + step).min(payloads.len());
-            let batch = table.batch(&payloads[start..end], &offsets[start..end])?;
+            let batch = table.batch(&payloads[start..end], offsets.slice(start..end))?;
             writer.write(&batch).map_err(|e| write_error(&tmp, e))?;
         }
         writer.close().map_err(|e| write_error(&tmp, e))?;

@@ -161,7 +161,7 @@ impl Iterator for RecordBatches<'_, '_> {
         let payloads: Vec<&[u8]> = (self.next..end)
             .filter_map(|i| self.topic.payload(i))
             .collect();
-        let offsets = &self.topic.message_offsets()[self.next..end];
+        let offsets = self.topic.message_offsets().slice(self.next..end);
         self.next = end;
         Some(self.table.batch(&payloads, offsets))
     }

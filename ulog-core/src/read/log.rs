@@ -9,6 +9,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::finding::{Finding, FindingKind};
 use crate::read::framing::{FlagBits, Framer, Header, Record, Step, MSG_HEADER_LEN};
 use crate::read::message::{KeyValue, LogMessage, Message};
+use crate::read::offsets::OffsetIndex;
 use crate::read::timestamp::{TimestampField, Unwrapper};
 use crate::value::Value;
 
@@ -21,7 +22,7 @@ pub struct Subscription {
     pub(crate) offset: u64,
     pub(crate) layout: Result<Arc<Layout>, LayoutError>,
     /// Offsets of the `D` messages (their 3-byte headers), in file order.
-    pub(crate) records: Vec<u64>,
+    pub(crate) records: OffsetIndex,
     pub(crate) timestamp: Option<TimestampField>,
 }
 
@@ -172,7 +173,7 @@ struct Builder<'a> {
     log: ULog<'a>,
     /// Per subscription, what each data message updates: its offsets (moved into
     /// the subscription at the end) and its timestamp unwrapper.
-    hot: Vec<(Vec<u64>, Unwrapper)>,
+    hot: Vec<(OffsetIndex, Unwrapper)>,
     multi_by_name: HashMap<String, usize>,
 }
 
@@ -251,7 +252,7 @@ impl<'a> ULog<'a> {
 /// Makes room in a full offset vector for the rows the rest of the file (`len`
 /// bytes) will likely add, judged by the rate so far at `offset`.
 #[cold]
-fn reserve_for_rest(records: &mut Vec<u64>, offset: u64, len: usize) {
+fn reserve_for_rest(records: &mut OffsetIndex, offset: u64, len: usize) {
     let rows = records.len();
     let estimate = crate::estimate::rows_at_end(rows, offset, len as u64);
     // At least double, as `push` would.
@@ -266,7 +267,7 @@ impl<'a> Builder<'a> {
     fn data(&mut self, offset: u64, sub: u32, payload: &[u8]) {
         self.log.message_count += 1;
         let (records, unwrap) = &mut self.hot[sub as usize];
-        if records.len() == records.capacity() {
+        if records.is_full() {
             reserve_for_rest(records, offset, self.log.data.len());
         }
         records.push(offset);
@@ -283,14 +284,15 @@ impl<'a> Builder<'a> {
         while self.log.subscriptions.len() < framer.subs.len() {
             let def = &framer.subs[self.log.subscriptions.len()];
             let timestamp = def.layout.as_ref().ok().and_then(|l| TimestampField::of(l));
-            self.hot.push((Vec::new(), Unwrapper::new(timestamp)));
+            self.hot
+                .push((OffsetIndex::default(), Unwrapper::new(timestamp)));
             self.log.subscriptions.push(Subscription {
                 msg_id: def.msg_id,
                 multi_id: def.multi_id,
                 name: def.name.clone(),
                 offset: def.offset,
                 layout: def.layout.clone(),
-                records: Vec::new(),
+                records: OffsetIndex::default(),
                 timestamp,
             });
         }

@@ -3,6 +3,7 @@ pub mod framing;
 pub mod iter;
 pub mod log;
 pub mod message;
+pub mod offsets;
 mod prefetch;
 pub mod scan;
 mod source;

@@ -547,14 +547,19 @@ impl<W: Write> DataWriter<W> {
     }
 
     /// A logged string (`L`).
+    ///
+    /// An error, and nothing written, for text holding a control character other than
+    /// tab, line feed, carriage return and escape ([`ErrorKind::ControlCharacter`]):
+    /// readers take such a message for corruption.
     pub fn log(&mut self, level: LogLevel, timestamp: u64, text: &str) -> Result<()> {
+        self.check_text(text)?;
         let l = [b'0' + level as u8];
         self.core
             .out
             .message(b'L', &[&l, &timestamp.to_le_bytes(), text.as_bytes()])
     }
 
-    /// A tagged logged string (`C`).
+    /// A tagged logged string (`C`); text as for [`DataWriter::log`].
     pub fn tagged_log(
         &mut self,
         level: LogLevel,
@@ -562,6 +567,7 @@ impl<W: Write> DataWriter<W> {
         timestamp: u64,
         text: &str,
     ) -> Result<()> {
+        self.check_text(text)?;
         let l = [b'0' + level as u8];
         self.core.out.message(
             b'C',
@@ -572,6 +578,21 @@ impl<W: Write> DataWriter<W> {
                 text.as_bytes(),
             ],
         )
+    }
+
+    /// Refuses text that readers would take for corruption (see [`DataWriter::log`]).
+    fn check_text(&self, text: &str) -> Result<()> {
+        let allowed = |b: u8| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b);
+        match text.bytes().position(|b| !allowed(b)) {
+            None => Ok(()),
+            Some(at) => Err(Error::new(
+                ErrorKind::ControlCharacter {
+                    at,
+                    byte: text.as_bytes()[at],
+                },
+                self.position(),
+            )),
+        }
     }
 
     /// A parameter change.
