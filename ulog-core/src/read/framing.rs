@@ -254,7 +254,14 @@ fn plausible_text(p: &[u8], t: u8) -> bool {
         .unwrap_or(&[])
         .iter()
         .take(STRICT_PREFIX)
-        .all(|&b| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b))
+        .all(|&b| is_text_byte(b))
+}
+
+/// A byte logged text may hold: anything but control bytes, except tab, line breaks
+/// and escape (terminal colours). The writer refuses text with other bytes, as
+/// framing takes it for corruption.
+pub(crate) fn is_text_byte(b: u8) -> bool {
+    b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b)
 }
 
 fn is_name_byte(b: u8) -> bool {

@@ -12,7 +12,6 @@ pub(crate) struct OffsetIndex {
     /// `(row, high)`: from `row` on, the offsets' high 32 bits are `high`. Rows in
     /// increasing order; before the first entry the high bits are 0.
     high: Vec<(usize, u32)>,
-    current_high: u32,
 }
 
 impl OffsetIndex {
@@ -20,7 +19,7 @@ impl OffsetIndex {
     #[inline(always)]
     pub(crate) fn push(&mut self, offset: u64) {
         let high = (offset >> 32) as u32;
-        if high != self.current_high {
+        if high != high_at(&self.high, usize::MAX).1 {
             self.new_high(high);
         }
         self.low.push(offset as u32);
@@ -29,7 +28,6 @@ impl OffsetIndex {
     #[cold]
     fn new_high(&mut self, high: u32) {
         self.high.push((self.low.len(), high));
-        self.current_high = high;
     }
 
     /// Messages indexed.
@@ -104,9 +102,7 @@ impl<'l> MessageOffsets<'l> {
     /// The offset of message `i`.
     pub fn get(&self, i: usize) -> Option<u64> {
         let low = *self.low.get(i)?;
-        let row = self.first_row + i;
-        let from = self.high.partition_point(|&(r, _)| r <= row);
-        let high = from.checked_sub(1).map_or(0, |k| self.high[k].1);
+        let (_, high) = high_at(self.high, self.first_row + i);
         Some(u64::from(high) << 32 | u64::from(low))
     }
 
@@ -124,11 +120,11 @@ impl<'l> MessageOffsets<'l> {
 
     /// Every offset, in file order.
     pub fn iter(&self) -> OffsetsIter<'l> {
-        let from = self.high.partition_point(|&(r, _)| r <= self.first_row);
+        let (from, high) = high_at(self.high, self.first_row);
         OffsetsIter {
             low: self.low.iter(),
             row: self.first_row,
-            high: from.checked_sub(1).map_or(0, |k| self.high[k].1),
+            high,
             next: &self.high[from..],
         }
     }
@@ -136,6 +132,22 @@ impl<'l> MessageOffsets<'l> {
     /// The offsets as a vector.
     pub fn to_vec(&self) -> Vec<u64> {
         self.iter().collect()
+    }
+}
+
+/// The high 32 bits of the offset of `row`, and where in `high` the changes after
+/// that row start.
+#[inline]
+fn high_at(high: &[(usize, u32)], row: usize) -> (usize, u32) {
+    match high.last() {
+        // No search when nothing changes (a file under 4 GiB) or `row` is past the
+        // last change (every push).
+        None => (0, 0),
+        Some(&(last, h)) if last <= row => (high.len(), h),
+        Some(_) => {
+            let from = high.partition_point(|&(r, _)| r <= row);
+            (from, from.checked_sub(1).map_or(0, |k| high[k].1))
+        }
     }
 }
 

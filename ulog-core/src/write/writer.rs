@@ -17,7 +17,7 @@ use ulog_format::{Format, Layout, Limits, Resolver};
 use zerocopy::IntoBytes;
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::read::framing::SYNC_MAGIC;
+use crate::read::framing::{is_text_byte, SYNC_MAGIC};
 use crate::read::message::LogLevel;
 use crate::typed::{FieldKind, ULogMessage, WireField};
 use crate::write::raw::RawWriter;
@@ -582,14 +582,10 @@ impl<W: Write> DataWriter<W> {
 
     /// Refuses text that readers would take for corruption (see [`DataWriter::log`]).
     fn check_text(&self, text: &str) -> Result<()> {
-        let allowed = |b: u8| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b);
-        match text.bytes().position(|b| !allowed(b)) {
+        match text.bytes().enumerate().find(|&(_, b)| !is_text_byte(b)) {
             None => Ok(()),
-            Some(at) => Err(Error::new(
-                ErrorKind::ControlCharacter {
-                    at,
-                    byte: text.as_bytes()[at],
-                },
+            Some((at, byte)) => Err(Error::new(
+                ErrorKind::ControlCharacter { at, byte },
                 self.position(),
             )),
         }
