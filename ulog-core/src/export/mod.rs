@@ -158,9 +158,7 @@ impl Iterator for RecordBatches<'_, '_> {
             return None;
         }
         let end = (self.next + self.batch_rows).min(n);
-        let payloads: Vec<&[u8]> = (self.next..end)
-            .filter_map(|i| self.topic.payload(i))
-            .collect();
+        let payloads: Vec<&[u8]> = self.topic.payloads_in(self.next..end).collect();
         let offsets = self.topic.message_offsets().slice(self.next..end);
         self.next = end;
         Some(self.table.batch(&payloads, offsets))
