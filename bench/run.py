@@ -69,18 +69,27 @@ def target_dir(default):
     return os.path.abspath(env) if env else default
 
 
-def build(peers):
-    """Builds the bench programs and the `ulog` CLI (release); returns their paths."""
-    cmd = ["cargo", "build", "--release", "--manifest-path", os.path.join(BENCH, "Cargo.toml")]
+def build(peers, profile):
+    """Builds the bench programs and the `ulog` CLI with cargo profile `profile` (release;
+    the smoke run takes `test`, whose dependencies `cargo test` has built already);
+    returns their paths."""
+    cmd = ["cargo", "build", "--profile", profile, "--manifest-path", os.path.join(BENCH, "Cargo.toml")]
     if not peers:
         cmd.append("--no-default-features")
     log("== " + " ".join(cmd))
     subprocess.run(cmd, check=True, cwd=ROOT)
-    cmd = ["cargo", "build", "--release", "-p", "ulog-cli"]
+    cmd = ["cargo", "build", "--profile", profile, "-p", "ulog-cli"]
     log("== " + " ".join(cmd))
     subprocess.run(cmd, check=True, cwd=ROOT)
-    bench_bin = os.path.join(target_dir(os.path.join(BENCH, "target")), "release")
-    cli_bin = os.path.join(target_dir(os.path.join(ROOT, "target")), "release")
+    return built_programs(peers, profile)
+
+
+def built_programs(peers, profile):
+    """Where the programs built with `profile` are."""
+    # Cargo puts the test profile's programs in `debug`, beside the dev profile's.
+    sub = "debug" if profile == "test" else profile
+    bench_bin = os.path.join(target_dir(os.path.join(BENCH, "target")), sub)
+    cli_bin = os.path.join(target_dir(os.path.join(ROOT, "target")), sub)
     return {
         "ours": os.path.join(bench_bin, "ours"),
         "floor": os.path.join(bench_bin, "floor"),
@@ -458,13 +467,13 @@ def main():
 
     runs = args.runs or (1 if args.smoke else 5)
     peers = not args.no_peers
+    # The smoke run times nothing: programs of the test profile (which shares the
+    # dependencies `cargo test` built) are enough, and quick to build.
+    profile = "test" if args.smoke else "release"
     if args.no_build:
-        tgt = os.path.join(target_dir(os.path.join(BENCH, "target")), "release")
-        cli = os.path.join(target_dir(os.path.join(ROOT, "target")), "release")
-        bins = {"ours": os.path.join(tgt, "ours"), "floor": os.path.join(tgt, "floor"),
-                "peers": os.path.join(tgt, "peers") if peers else None, "ulog": os.path.join(cli, "ulog")}
+        bins = built_programs(peers, profile)
     else:
-        bins = build(peers)
+        bins = build(peers, profile)
 
     if args.inputs:
         inputs = [(os.path.basename(p), os.path.abspath(p)) for p in args.inputs]
