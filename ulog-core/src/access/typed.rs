@@ -45,12 +45,11 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
     /// Row `i`, decoded.
     pub fn get(&self, i: usize) -> Option<Result<T>> {
         let payload = self.topic.payload(i)?;
-        let offset = self.topic.message_offsets().get(i)?;
-        Some(
-            self.plan
-                .decode(payload)
-                .map_err(|e| Error::new(ErrorKind::Decode(e), offset)),
-        )
+        Some(self.plan.decode(payload).map_err(|e| {
+            // Row `i` has a payload, so it has an offset: looked up only for an error.
+            let offset = self.topic.message_offsets().get(i).unwrap_or(0);
+            Error::new(ErrorKind::Decode(e), offset)
+        }))
     }
 
     /// Every row, decoded, in file order. Framing has checked each payload's size
