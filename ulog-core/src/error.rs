@@ -76,8 +76,9 @@ pub enum ErrorKind {
     /// outside `a-z A-Z 0-9 _ - /`.
     InvalidName(String),
     /// Writing: a logged string holds a control character other than tab, line feed,
-    /// carriage return and escape, at byte `at` of the text. Readers (this one among
-    /// them) take such a message in the data section for corruption.
+    /// carriage return and escape, at byte `at` of the text. This reader takes such a
+    /// message in the data section for corruption when the byte is among the text's
+    /// first 128; the writer refuses it anywhere, so that no reader drops the message.
     ControlCharacter {
         /// Byte offset in the text.
         at: usize,
@@ -196,7 +197,7 @@ impl fmt::Display for ErrorKind {
             ),
             ErrorKind::ControlCharacter { at, byte } => write!(
                 f,
-                "logged text holds control character {byte:#04x} at byte {at}: readers take it for corruption (tab, line feed, carriage return and escape are allowed)"
+                "logged text holds control character {byte:#04x} at byte {at}: readers may take the message for corruption (tab, line feed, carriage return and escape are allowed)"
             ),
             ErrorKind::NoFlagBits => write!(
                 f,

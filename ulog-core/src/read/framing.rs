@@ -258,8 +258,8 @@ fn plausible_text(p: &[u8], t: u8) -> bool {
 }
 
 /// A byte logged text may hold: anything but control bytes, except tab, line breaks
-/// and escape (terminal colours). The writer refuses text with other bytes, as
-/// framing takes it for corruption.
+/// and escape (terminal colours). Framing checks a text's first bytes with it; the
+/// writer refuses text with other bytes anywhere.
 pub(crate) fn is_text_byte(b: u8) -> bool {
     b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b)
 }

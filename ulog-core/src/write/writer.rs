@@ -550,7 +550,8 @@ impl<W: Write> DataWriter<W> {
     ///
     /// An error, and nothing written, for text holding a control character other than
     /// tab, line feed, carriage return and escape ([`ErrorKind::ControlCharacter`]):
-    /// readers take such a message for corruption.
+    /// readers may take such a message for corruption (this one does when the byte is
+    /// among the text's first 128), so it is refused wherever it is.
     pub fn log(&mut self, level: LogLevel, timestamp: u64, text: &str) -> Result<()> {
         self.check_text(text)?;
         let l = [b'0' + level as u8];
