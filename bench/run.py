@@ -15,6 +15,7 @@ Wall time and peak RSS come from wait4() on each process. No timing is asserted.
 """
 
 import argparse
+import atexit
 import datetime
 import os
 import platform
@@ -495,6 +496,8 @@ def main():
     taskset = shutil.which("taskset") if (os.cpu_count() or 1) > 1 else None
     write_n = SMOKE_WRITE_MESSAGES if args.smoke else WRITE_MESSAGES
     scratch = tempfile.mkdtemp(prefix="ulog-bench-scratch-", dir=data_dir() if os.path.isdir(data_dir()) else None)
+    # Removed however the run ends (a program failing, Ctrl-C), except when killed.
+    atexit.register(shutil.rmtree, scratch, True)
 
     doc = [
         "# Benchmarks",
@@ -574,7 +577,9 @@ def main():
 
     doc += ["## Targets", "",
             "The issue's targets (medians; ratios from this run). *met* / *missed*; "
-            "*–* where a program of the ratio was not run.", ""]
+            "*–* where a program of the ratio was not run. What the profiles of the "
+            "targets missed on a 2-core machine show: [bench/README.md]"
+            "(bench/README.md#the-targets-missed-on-a-2-core-machine).", ""]
     for label, ts in all_targets:
         doc += [f"### {label}", "", "| target | measured | |", "|---|---:|---|"]
         for name, value, ok in ts:
@@ -582,7 +587,6 @@ def main():
             doc.append(f"| {name} | {value} | {mark} |")
         doc.append("")
 
-    shutil.rmtree(scratch, ignore_errors=True)
     with open(out_path, "w") as f:
         f.write("\n".join(doc))
     log(f"== wrote {out_path}")
