@@ -5,12 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 shared=${ULOG_CORPUS:-../../shared/corpus}
-mkdir -p corpus/reader corpus/chunked corpus/grammar corpus/typed corpus/roundtrip
+mkdir -p corpus/reader corpus/chunked corpus/columns corpus/grammar corpus/typed corpus/roundtrip
 if [ -d "$shared/files" ]; then
     for f in "$shared"/files/*.ulg; do
         name=$(basename "$f" .ulg)
         head -c 65536 "$f" > "corpus/reader/$name"
         head -c 65536 "$f" > "corpus/chunked/$name"
+        # columns: three bytes first (threads, then the sample's size: 4 KiB).
+        { printf '\000\000\020'; head -c 65536 "$f"; } > "corpus/columns/$name"
         # Format messages ('F'): the text after each header, one seed per log.
         python3 - "$f" "corpus/grammar/$name" <<'PY'
 import struct, sys

@@ -289,3 +289,28 @@ where
         true
     })
 }
+
+/// [`load_file_columns`](crate::load_file_columns) on exactly `threads` threads (at
+/// least 1; no minimum file size per thread), the topics shared by their work in the
+/// file's first `sample` bytes (`0`: none, every topic first met after the sample).
+/// For tests and fuzzing.
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// let path = std::env::temp_dir().join(format!("ulog-doc-{}.ulg", std::process::id()));
+/// std::fs::write(&path, &bytes)?;
+/// let shared = ulog_core::testing::load_file_columns_in(&path, 2, 100)?;
+/// assert_eq!(shared.summary, ulog_core::load_columns(&bytes[..])?.summary);
+/// # std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn load_file_columns_in(
+    path: impl AsRef<std::path::Path>,
+    threads: usize,
+    sample: u64,
+) -> crate::Result<crate::LoadedColumns> {
+    use crate::access::load::{io_error, load_shared};
+    let path = path.as_ref();
+    let len = std::fs::metadata(path).map_err(io_error(path))?.len();
+    load_shared(path, len, threads.max(1), sample)
+}

@@ -158,7 +158,7 @@ pub fn load_file_columns(path: impl AsRef<Path>, threads: usize) -> Result<Loade
     load_shared(path, len, threads, (len / 50).max(1 << 20))
 }
 
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
     move |e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0)
 }
 
@@ -214,7 +214,12 @@ impl Shares {
 
 /// Loads on `threads` threads, the shares balanced on the file's first `sample`
 /// bytes.
-fn load_shared(path: &Path, len: u64, threads: usize, sample: u64) -> Result<LoadedColumns> {
+pub(crate) fn load_shared(
+    path: &Path,
+    len: u64,
+    threads: usize,
+    sample: u64,
+) -> Result<LoadedColumns> {
     let io = io_error(path);
     if threads <= 1 {
         return load_one(File::open(path).map_err(io)?, len);
