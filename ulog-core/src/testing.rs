@@ -309,8 +309,7 @@ pub fn load_file_columns_in(
     threads: usize,
     sample: u64,
 ) -> crate::Result<crate::LoadedColumns> {
-    use crate::access::load::{io_error, load_shared};
+    use crate::access::load::{file_len, load_shared};
     let path = path.as_ref();
-    let len = std::fs::metadata(path).map_err(io_error(path))?.len();
-    load_shared(path, len, threads.max(1), sample)
+    load_shared(path, file_len(path)?, threads.max(1), sample)
 }

@@ -151,15 +151,20 @@ fn load_one<R: Read>(src: R, len: u64) -> Result<LoadedColumns> {
 /// ```
 pub fn load_file_columns(path: impl AsRef<Path>, threads: usize) -> Result<LoadedColumns> {
     let path = path.as_ref();
-    let len = std::fs::metadata(path).map_err(io_error(path))?.len();
+    let len = file_len(path)?;
     // Files smaller than this per thread are not worth more threads.
     const MIN_SHARE: u64 = 4 << 20;
     let threads = threads.clamp(1, 64).min((len / MIN_SHARE).max(1) as usize);
     load_shared(path, len, threads, (len / 50).max(1 << 20))
 }
 
-pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
     move |e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0)
+}
+
+/// The size of the file at `path`.
+pub(crate) fn file_len(path: &Path) -> Result<u64> {
+    Ok(std::fs::metadata(path).map_err(io_error(path))?.len())
 }
 
 /// Which thread fills which subscription's columns. Every thread keeps its own copy
