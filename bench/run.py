@@ -85,6 +85,41 @@ def build(peers, profile):
     return built_programs(peers, profile)
 
 
+def build_baseline(tree, profile):
+    """Builds `ours` and the `ulog` CLI of another checkout of this repository (an
+    earlier commit, e.g. from `git worktree add`) in that checkout's own target
+    directories; returns their paths."""
+    tree = os.path.abspath(tree)
+    env = dict(os.environ)
+    env.pop("CARGO_TARGET_DIR", None)
+    for cmd in (["cargo", "build", "--profile", profile, "--no-default-features", "--bin", "ours",
+                 "--manifest-path", os.path.join(tree, "bench", "Cargo.toml")],
+                ["cargo", "build", "--profile", profile, "-p", "ulog-cli"]):
+        log("== (baseline) " + " ".join(cmd))
+        subprocess.run(cmd, check=True, cwd=tree, env=env)
+    sub = "debug" if profile == "test" else profile
+    return {
+        "ours": os.path.join(tree, "bench", "target", sub, "ours"),
+        "ulog": os.path.join(tree, "target", sub, "ulog"),
+    }
+
+
+def with_baseline(progs, bins, base):
+    """After each of our programs, the same command run with the baseline's binary."""
+    out = []
+    for p in progs:
+        out.append(p)
+        if not p.impl.startswith("ours"):
+            continue
+        swap = {bins["ours"]: base["ours"], bins["ulog"]: base["ulog"]}
+        if not any(a in swap for a in p.argv):
+            continue
+        argv = [swap.get(a, a) for a in p.argv]
+        out.append(Program(p.workload, "baseline " + p.impl, argv, p.out_dir, p.msgs_from_output,
+                           "the same, built from the baseline checkout", versus=p.impl))
+    return out
+
+
 def built_programs(peers, profile):
     """Where the programs built with `profile` are."""
     # Cargo puts the test profile's programs in `debug`, beside the dev profile's.
@@ -165,8 +200,12 @@ def cli_has(ulog, sub):
 class Program:
     """One whole-process command of a workload."""
 
-    def __init__(self, workload, impl, argv, out_dir=False, msgs_from_output=False, note=""):
+    def __init__(self, workload, impl, argv, out_dir=False, msgs_from_output=False, note="",
+                 versus=None):
         self.workload = workload
+        # The implementation this row's ratio is taken against (default: the
+        # workload's first `ours` row).
+        self.versus = versus
         self.impl = impl
         self.argv = argv  # a list; "{out}" is replaced by a fresh empty directory
         self.out_dir = out_dir
@@ -273,9 +312,9 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
     P.append(Program("framing", "ours (scan, no index)", [b["ours"], "scan", path],
                      note="scan over a memory map: framing without the index (for reference)"))
     P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
-                     note="scan_reader: read() in 256 KiB chunks, one pass"))
+                     note="scan of Source::file: read() in 256 KiB chunks, one pass"))
     P.append(Program("generic decode", "ours (stream, read ahead)", [b["ours"], "decode-ahead", path],
-                     note="scan_reader_ahead: the same, the next 1 MiB read on a second thread"))
+                     note="scan with read_ahead(true): the same, the next 1 MiB read on a second thread"))
     P.append(Program("generic decode", "ours (mmap)", [b["ours"], "decode-mmap", path],
                      note="scan over a memory map, one pass"))
     if peers:
@@ -285,19 +324,19 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                          note="ULogParser, every field"))
     P.append(Program("typed decode", "ours (derive)", [b["ours"], "typed", path],
                      msgs_from_output=True,
-                     note="sensor_combined + vehicle_attitude: scan_topics_only over a memory map"))
+                     note="sensor_combined + vehicle_attitude: scan_topics over a memory map"))
     P.append(Program("typed decode", "ours (derive, indexed)", [b["ours"], "typed-indexed", path],
                      msgs_from_output=True, note="the same through ULog::parse + ULog::read::<T>"))
     if peers:
         P.append(Program("typed decode", "yule_log 0.4 (derive)", [b["peers"], "yule-derive", path],
                          msgs_from_output=True, note="same two topics, same fields"))
     P.append(Program("columnar load", "ours (2 threads)", [b["ours"], "columns", path, "2"],
-                     note="load_file_columns(2): read(), no map; topics shared by 2 threads"))
+                     note="load_columns(Source::file, threads(2)): read(), no map; topics shared by 2 threads"))
     P.append(Program("columnar load", "ours (1 thread)", [b["ours"], "columns", path, "1"],
-                     note="load_file_columns(1)"))
+                     note="load_columns(Source::file, threads(1))"))
     P.append(Program("columnar load", "ours (indexed, 2 threads)",
                      [b["ours"], "columns-indexed", path, "2"],
-                     note="ULog::parse on a memory map + load_all_columns(2)"))
+                     note="ULog::parse on a memory map + load_columns(&log, threads(2))"))
     if peers:
         P.append(Program("columnar load", "px4-ulog 0.6 (full_parser)", [b["peers"], "px4-full", path],
                          note="full_parser::read_file"))
@@ -385,6 +424,7 @@ def table(results, size, msgs):
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     ours_by_workload = {}
+    by_impl = {(p.workload, p.impl): r["median"] for p, r in results if r}
     for p, r in results:
         if r and p.impl.startswith("ours") and p.workload not in ours_by_workload:
             ours_by_workload[p.workload] = r["median"]
@@ -396,6 +436,8 @@ def table(results, size, msgs):
         m = int(r["kv"].get("messages", 0)) if p.msgs_from_output else msgs
         ref = ours_by_workload.get(p.workload)
         ratio = f"{t / ref:.2f}" if ref and not p.impl.startswith("ours") else ""
+        if p.versus and by_impl.get((p.workload, p.versus)):
+            ratio = f"{t / by_impl[(p.workload, p.versus)]:.2f}"
         if p.workload == "framing" and p.impl.startswith("floor") and "framing" in ours_by_workload:
             ratio = f"{t / ours_by_workload['framing']:.2f}"
         lines.append(
@@ -463,6 +505,10 @@ def main():
     ap.add_argument("--no-peers", action="store_true", help="skip yule_log and px4-ulog (pyulog still runs)")
     ap.add_argument("--no-build", action="store_true", help="use the programs already built")
     ap.add_argument("--note", default="", help="a note for the machine section (e.g. the machine was shared)")
+    ap.add_argument("--baseline", metavar="DIR",
+                    help="another checkout of this repository (e.g. `git worktree add DIR COMMIT`): "
+                         "each of our programs also runs built from it, in the same rounds, "
+                         "its ratio taken against ours")
     ap.add_argument("inputs", nargs="*", help="logs to run on instead of the two big ones")
     args = ap.parse_args()
 
@@ -475,6 +521,7 @@ def main():
         bins = built_programs(peers, profile)
     else:
         bins = build(peers, profile)
+    base = build_baseline(args.baseline, profile) if args.baseline else None
 
     if args.inputs:
         inputs = [(os.path.basename(p), os.path.abspath(p)) for p in args.inputs]
@@ -537,6 +584,8 @@ def main():
         # Count the messages (our framing).
         msgs = int(run_once(Program("", "", [bins["ours"], "framing", path]), scratch)[2]["messages"])
         progs = programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset)
+        if base:
+            progs = with_baseline(progs, bins, base)
         measured = measure(progs, runs, scratch)
         failures += sum(1 for r in measured if r is None)
         results = list(zip(progs, measured))

@@ -43,7 +43,7 @@ fn main() {
             // Paths stay relative: the macro resolves them from CARGO_MANIFEST_DIR.
             writeln!(
                 code,
-                "ulog_core::typed::ulog_module!(pub mod log{i} = {:?});",
+                "ulog_core::ulog_module!(pub mod log{i} = {:?});",
                 format!("{CORPUS_FILES}/{stem}.ulg")
             )
             .unwrap();
@@ -68,4 +68,28 @@ fn main() {
         let file = Path::new(&out).join(format!("typed_corpus_{}.rs", shard + 1));
         std::fs::write(file, code).expect("write generated bindings");
     }
+    // The same logs as view bindings (`ulog_module!(views; …)`), for
+    // `typed_corpus_views.rs`: one crate, view modules compile quickly.
+    let mut code = String::new();
+    let mut table = String::new();
+    for (i, stem) in stems.iter().enumerate() {
+        writeln!(
+            code,
+            "ulog_core::ulog_module!(views; pub mod log{i} = {:?});",
+            format!("{CORPUS_FILES}/{stem}.ulg")
+        )
+        .unwrap();
+        writeln!(table, "        {stem:?} => log{i}::visit_views(checker),").unwrap();
+    }
+    writeln!(
+        code,
+        "/// Every log of the corpus when this was built.\n\
+         pub static ALL_STEMS: &[&str] = &{stems:?};\n\
+         /// Visits the view bindings generated from log `stem`.\n\
+         pub fn visit_log(stem: &str, checker: &mut Checker<'_, '_>) {{\n\
+         \x20   match stem {{\n{table}        other => panic!(\"{{other}} is not in the corpus\"),\n    }}\n}}"
+    )
+    .unwrap();
+    std::fs::write(Path::new(&out).join("typed_corpus_views.rs"), code)
+        .expect("write generated view bindings");
 }

@@ -1,11 +1,12 @@
 //! Reading: framing (`ULog::parse`, which indexes every message) and generic decoding
 //! of every field of every data message: message by message (`StreamReader`), in
-//! one pass (`scan_reader`, with field readers; the numbers only, with a `NumericRow`
-//! per message or a `NumericBlock` per topic, the blocks also through `scan` over the
-//! buffer) and from the parsed index; and the columnar load in one
-//! pass (`load_columns`) and from the index on one and two threads; and two topics
-//! (`sensor_combined`, `vehicle_attitude`) through derived structs in one pass, with
-//! the other topics handed out raw (`scan_topics`) or not at all (`scan_topics_only`).
+//! one pass (`scan` of a `Source::reader`, with field readers; the numbers only, with a
+//! `NumericRow` per message or a `NumericBlock` per topic, the blocks also through
+//! `scan` over the buffer) and from the parsed index; and the columnar load in one
+//! pass (`load_columns` of a `Source::reader`) and from the index on one and two
+//! threads; and two topics (`sensor_combined`, `vehicle_attitude`) through derived
+//! structs in one pass (`scan_topics`), with the other topics handed out raw
+//! (`raw_others(true)`) or not at all (the default).
 //! The whole-process versions of these, beside the peers, are in `bench/run`.
 //!
 //! ```text
@@ -17,9 +18,10 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+use ulog_core::columns::{NumericBlock, NumericRow};
+use ulog_core::stream::StreamReader;
 use ulog_core::{
-    FieldReader, Message, NumericBlock, NumericRow, ScanRecord, StreamReader, ULog, Value,
+    DataRecord, FieldReader, Message, ScanOptions, Source, ULog, ULogMessage, ULogTopics, Value,
 };
 
 /// `sensor_combined`: timestamp, gyro and accelerometer.
@@ -55,11 +57,16 @@ impl Two {
     }
 }
 
-/// The two topics through `scan_topics` (the other topics come raw).
+/// The two topics through `scan_topics` with `raw_others` (the other topics come raw).
 fn typed_scan(bytes: &[u8]) -> f64 {
     let mut sum = 0.0;
-    ulog_core::scan_topics::<Two, _>(bytes, |r| {
-        if let Ok(TopicRecord::Message { message, .. }) = r {
+    let options = ScanOptions::default().raw_others(true);
+    ulog_core::scan_topics::<Two, _, _>(bytes, &options, |r| {
+        if let Ok(ulog_core::TopicRecord {
+            message: Some(message),
+            ..
+        }) = r
+        {
             sum += message.sum();
         }
     })
@@ -67,12 +74,17 @@ fn typed_scan(bytes: &[u8]) -> f64 {
     sum
 }
 
-/// The two topics through `scan_topics_only` (the other topics are not handed out).
+/// The two topics through `scan_topics` with the default options (the other topics
+/// are not handed out).
 fn typed_scan_only(bytes: &[u8]) -> f64 {
     let mut sum = 0.0;
-    ulog_core::scan_topics_only::<Two, _>(bytes, |r| {
-        if let Ok(m) = r {
-            sum += m.message.sum();
+    ulog_core::scan_topics::<Two, _, _>(bytes, &ScanOptions::default(), |r| {
+        if let Ok(ulog_core::TopicRecord {
+            message: Some(message),
+            ..
+        }) = r
+        {
+            sum += message.sum();
         }
     })
     .expect("scans");
@@ -153,7 +165,7 @@ fn decode_stream(bytes: &[u8]) -> f64 {
             let columns = reader
                 .state()
                 .subscription(id)
-                .and_then(|(_, _, l)| l.map(|l| FieldReader::columns_of(l)));
+                .and_then(|s| s.layout().ok().map(|l| FieldReader::all(l)));
             if by_id.len() <= id as usize {
                 by_id.resize(id as usize + 1, None);
             }
@@ -163,17 +175,18 @@ fn decode_stream(bytes: &[u8]) -> f64 {
     sum
 }
 
-/// Every field of every data message in one pass (`scan_reader`), leaves resolved at
-/// each subscription's first record.
+/// Every field of every data message in one pass (`scan` of a `Source::reader`),
+/// leaves resolved at each subscription's first record.
 fn decode_scan(bytes: &[u8]) -> f64 {
     let mut readers: Vec<Option<Option<Vec<FieldReader>>>> = Vec::new();
     let mut sum = 0.0;
-    ulog_core::scan_reader(bytes, |r| {
-        if r.subscription >= readers.len() {
-            readers.resize(r.subscription + 1, None);
+    ulog_core::scan(Source::reader(bytes), &ScanOptions::default(), |r| {
+        let sub = r.topic.index();
+        if sub >= readers.len() {
+            readers.resize(sub + 1, None);
         }
-        let columns = readers[r.subscription]
-            .get_or_insert_with(|| r.layout.map(|l| FieldReader::columns_of(l)));
+        let columns =
+            readers[sub].get_or_insert_with(|| r.topic.layout().ok().map(|l| FieldReader::all(l)));
         for c in columns.iter().flatten() {
             if let Some(v) = c.read(r.payload) {
                 add(&mut sum, v);
@@ -184,17 +197,19 @@ fn decode_scan(bytes: &[u8]) -> f64 {
     sum
 }
 
-/// Every number of every data message in one pass (`scan_reader`), through a
-/// `NumericRow` per subscription, message by message (`char[N]` strings left out).
+/// Every number of every data message in one pass (`scan` of a `Source::reader`),
+/// through a `NumericRow` per subscription, message by message (`char[N]` strings left
+/// out).
 fn decode_rows(bytes: &[u8]) -> f64 {
     let mut rows: Vec<Option<Option<NumericRow>>> = Vec::new();
     let mut values = Vec::new();
     let mut sum = 0.0;
-    ulog_core::scan_reader(bytes, |r| {
-        if r.subscription >= rows.len() {
-            rows.resize_with(r.subscription + 1, || None);
+    ulog_core::scan(Source::reader(bytes), &ScanOptions::default(), |r| {
+        let sub = r.topic.index();
+        if sub >= rows.len() {
+            rows.resize_with(sub + 1, || None);
         }
-        let row = rows[r.subscription].get_or_insert_with(|| r.layout.map(|l| NumericRow::of(l)));
+        let row = rows[sub].get_or_insert_with(|| r.topic.layout().ok().map(|l| NumericRow::of(l)));
         if let Some(row) = row {
             values.resize(row.width(), 0.0);
             row.read(r.payload, &mut values);
@@ -207,18 +222,20 @@ fn decode_rows(bytes: &[u8]) -> f64 {
 
 /// Every number of every data message in one pass, through a `NumericBlock` per
 /// subscription (`char[N]` strings left out): with `scan` over the buffer when
-/// `in_place` (as over a memory map), else with `scan_reader` (a copy into its window).
+/// `in_place` (as over a memory map), else with `scan` of a `Source::reader` (a copy
+/// into its window).
 fn decode_blocks(bytes: &[u8], in_place: bool) -> f64 {
     type Blocks = Vec<Option<Option<NumericBlock>>>;
     fn add_rows(sum: &mut f64, block: &mut NumericBlock) {
         *sum += sum8(block.decode().values());
     }
-    fn push(blocks: &mut Blocks, sum: &mut f64, r: &ScanRecord<'_, '_>) {
-        if r.subscription >= blocks.len() {
-            blocks.resize_with(r.subscription + 1, || None);
+    fn push(blocks: &mut Blocks, sum: &mut f64, r: &DataRecord<'_>) {
+        let sub = r.topic.index();
+        if sub >= blocks.len() {
+            blocks.resize_with(sub + 1, || None);
         }
         let block =
-            blocks[r.subscription].get_or_insert_with(|| r.layout.map(|l| NumericBlock::new(l)));
+            blocks[sub].get_or_insert_with(|| r.topic.layout().ok().map(|l| NumericBlock::new(l)));
         if let Some(block) = block {
             if block.push(r.payload) {
                 add_rows(sum, block);
@@ -227,10 +244,13 @@ fn decode_blocks(bytes: &[u8], in_place: bool) -> f64 {
     }
     let mut blocks: Blocks = Vec::new();
     let mut sum = 0.0;
+    let options = ScanOptions::default();
     if in_place {
-        ulog_core::scan(bytes, |r| push(&mut blocks, &mut sum, &r))
+        ulog_core::scan(bytes, &options, |r| push(&mut blocks, &mut sum, &r))
     } else {
-        ulog_core::scan_reader(bytes, |r| push(&mut blocks, &mut sum, &r))
+        ulog_core::scan(Source::reader(bytes), &options, |r| {
+            push(&mut blocks, &mut sum, &r)
+        })
     }
     .expect("reads");
     for block in blocks.iter_mut().flatten().flatten() {
@@ -243,7 +263,7 @@ fn decode_blocks(bytes: &[u8], in_place: bool) -> f64 {
 fn decode_index(log: &ULog<'_>) -> f64 {
     let mut sum = 0.0;
     for topic in log.topics() {
-        let Ok(columns) = topic.columns() else {
+        let Ok(columns) = topic.fields() else {
             continue;
         };
         for payload in topic.payloads() {
@@ -278,13 +298,13 @@ fn main() {
     group.bench_function("generic decode (StreamReader)", |b| {
         b.iter(|| decode_stream(black_box(&bytes)))
     });
-    group.bench_function("generic decode (scan_reader)", |b| {
+    group.bench_function("generic decode (scan, Source::reader)", |b| {
         b.iter(|| decode_scan(black_box(&bytes)))
     });
-    group.bench_function("numbers only (scan_reader, NumericRow)", |b| {
+    group.bench_function("numbers only (scan, Source::reader, NumericRow)", |b| {
         b.iter(|| decode_rows(black_box(&bytes)))
     });
-    group.bench_function("numbers only (scan_reader, NumericBlock)", |b| {
+    group.bench_function("numbers only (scan, Source::reader, NumericBlock)", |b| {
         b.iter(|| decode_blocks(black_box(&bytes), false))
     });
     group.bench_function("numbers only (scan, NumericBlock)", |b| {
@@ -293,23 +313,32 @@ fn main() {
     group.bench_function("generic decode (parsed index)", |b| {
         b.iter(|| decode_index(black_box(&log)))
     });
-    group.bench_function("typed decode (scan_topics, 2 topics)", |b| {
+    group.bench_function("typed decode (scan_topics raw_others, 2 topics)", |b| {
         b.iter(|| typed_scan(black_box(&bytes)))
     });
-    group.bench_function("typed decode (scan_topics_only, 2 topics)", |b| {
+    group.bench_function("typed decode (scan_topics named only, 2 topics)", |b| {
         b.iter(|| typed_scan_only(black_box(&bytes)))
     });
     group.bench_function("columnar load (one pass, load_columns)", |b| {
         b.iter(|| {
-            ulog_core::load_columns(black_box(&bytes[..]))
-                .expect("loads")
-                .topics
-                .len()
+            ulog_core::load_columns(
+                Source::reader(black_box(&bytes[..])),
+                &ScanOptions::default(),
+            )
+            .expect("loads")
+            .topics
+            .len()
         })
     });
     for threads in [1, 2] {
         group.bench_function(format!("columnar load (index, {threads} thread)"), |b| {
-            b.iter(|| black_box(&log).load_all_columns(threads).len())
+            let options = ScanOptions::default().threads(threads);
+            b.iter(|| {
+                ulog_core::load_columns(black_box(&log), &options)
+                    .expect("loads")
+                    .topics
+                    .len()
+            })
         });
     }
     group.finish();

@@ -10,7 +10,7 @@
 //! Big logs: `python3 ../shared/tools/make_big.py BASE.ulg REPEATS OUT.ulg`.
 //!
 //! Per topic, three ways to go through every row:
-//! - `generic`: `Topic::columns()` resolved once, then every field of every row read
+//! - `generic`: `Topic::fields()` resolved once, then every field of every row read
 //!   with `FieldReader::read` and summed as `f64` (what dynamic readers do);
 //! - `typed`: every row decoded into the generated struct (`TypedRows::iter`), the
 //!   plan made once;
@@ -26,13 +26,13 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
-use ulog_core::typed::{BindingVisitor, ULogMessage};
-use ulog_core::{Topic, ULog};
+use ulog_core::typed::BindingVisitor;
+use ulog_core::{Topic, ULog, ULogMessage};
 
 #[cfg(has_corpus)]
-ulog_core::typed::ulog_module!(mod schema = "../../shared/corpus/files/sample.ulg");
+ulog_core::ulog_module!(mod schema = "../../shared/corpus/files/sample.ulg");
 #[cfg(not(has_corpus))]
-ulog_core::typed::ulog_module!(mod schema = "../examples/data/reference.ulg");
+ulog_core::ulog_module!(mod schema = "../examples/data/reference.ulg");
 
 /// Total time and iterations per benchmark id, as criterion ran them.
 type Timings = RefCell<BTreeMap<String, (Duration, u64)>>;
@@ -61,7 +61,7 @@ fn load() -> (String, Vec<u8>) {
 
 /// Generic access: every column of every row, summed.
 fn generic_sum(topic: &Topic<'_, '_>) -> f64 {
-    let columns = topic.columns().expect("columns");
+    let columns = topic.fields().expect("fields");
     let mut sum = 0.0;
     for payload in topic.payloads() {
         for c in &columns {
@@ -102,7 +102,7 @@ impl BindingVisitor for Bench<'_, '_, '_> {
             "{label}: {} rows, {} bytes, {} columns, {:?} plan",
             rows.len(),
             bytes,
-            topic.columns().map_or(0, |c| c.len()),
+            topic.fields().map_or(0, |c| c.len()),
             rows.plan().kind()
         );
         let timings = self.timings;
@@ -130,7 +130,7 @@ impl BindingVisitor for Bench<'_, '_, '_> {
                 let start = Instant::now();
                 for _ in 0..iters {
                     // The plan is made once per subscription, as a reader does.
-                    let rows = black_box(&topic).decode::<T>().expect("plan");
+                    let rows = black_box(&topic).read::<T>().expect("plan");
                     for row in rows.iter() {
                         black_box(row.expect("row"));
                     }
@@ -144,7 +144,7 @@ impl BindingVisitor for Bench<'_, '_, '_> {
             b.iter_custom(|iters| {
                 let start = Instant::now();
                 for _ in 0..iters {
-                    let rows = black_box(&topic).decode::<T>().expect("plan");
+                    let rows = black_box(&topic).read::<T>().expect("plan");
                     let mut sum = 0.0;
                     for row in rows.iter() {
                         row.expect("row").visit_fields(&mut |_, v| {

@@ -11,8 +11,8 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput};
-use ulog_core::typed::ULogMessage;
-use ulog_core::{LogWriter, WriterOptions};
+use ulog_core::write::WriterOptions;
+use ulog_core::{LogWriter, ULogMessage};
 
 /// `sensor_combined` as PX4 v1.14 logs it.
 #[derive(ULogMessage, Clone, Copy)]

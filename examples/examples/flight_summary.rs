@@ -1,6 +1,6 @@
-//! A typed analysis of a flight log: flight time, distance flown, peak altitude and
-//! battery used, from `vehicle_local_position`, `vehicle_gps_position` and
-//! `battery_status`.
+//! A typed analysis of a flight log: flight time, distance flown, peak altitude, GPS
+//! track and battery used, from `vehicle_local_position`, `vehicle_gps_position` (or
+//! `sensor_gps`) and `battery_status`.
 //!
 //! ```text
 //! cargo run -p ulog-examples --example flight_summary -- [LOG.ulg]
@@ -8,16 +8,17 @@
 //!
 //! Without a path it reads the bundled sample log (`ulog_core::testing::sample_log`).
 //!
-//! Each binding names only the fields it needs. The reader checks it against the log's
-//! format once per topic: where a newer firmware added or moved fields, the fields are
-//! found by name (a mapped plan), so the same structs read logs from 2016 to today.
-//! Where a field's type changed (GPS positions went from `int32_t` degrees·1e7 to
-//! `double` degrees), there are two bindings, and the one that fits is used.
+//! There is one struct per topic, whatever the firmware. Each names only the fields it
+//! needs; the reader checks it against the log's format once per topic instance, and
+//! finds the fields by name where newer firmware added or moved others. Fields that
+//! exist only in some firmware are `Option`s: GPS positions went from `int32_t`
+//! degrees·1e7 (`lat`) to `double` degrees (`latitude_deg`) in 2023, and a battery's
+//! drawn charge is not in every log. A topic a log lacks is said as such, with the
+//! closest topic names the log has.
 
 use std::process::ExitCode;
 
-use ulog_core::typed::ULogMessage;
-use ulog_core::{ErrorKind, MappedFile, ULog};
+use ulog_core::{LogFile, TypedError, ULog, ULogMessage};
 
 /// The local position estimate (NED, metres, relative to the EKF origin).
 #[derive(ULogMessage, Debug, Clone, Copy)]
@@ -29,42 +30,31 @@ struct VehicleLocalPosition {
     xy_valid: bool,
 }
 
-/// GPS fixes as PX4 logs them since 2023: degrees and metres as `double`.
+/// A GPS fix, as PX4 has logged it since 2016. Logs since 2023 also have it as
+/// `sensor_gps`, read with the same struct.
 #[derive(ULogMessage, Debug, Clone, Copy)]
 #[ulog(name = "vehicle_gps_position")]
-struct GpsPosition {
+struct GpsFix {
     timestamp: u64,
-    latitude_deg: f64,
-    longitude_deg: f64,
-    altitude_msl_m: f64,
+    /// Degrees, metres (since 2023).
+    latitude_deg: Option<f64>,
+    longitude_deg: Option<f64>,
+    altitude_msl_m: Option<f64>,
+    /// Degrees·1e7, millimetres (before).
+    lat: Option<i32>,
+    lon: Option<i32>,
+    alt: Option<i32>,
     fix_type: u8,
 }
 
-/// GPS fixes as older PX4 logs them: degrees·1e7 and millimetres as `int32_t`.
-#[derive(ULogMessage, Debug, Clone, Copy)]
-#[ulog(name = "vehicle_gps_position")]
-struct GpsPositionInt {
-    timestamp: u64,
-    lat: i32,
-    lon: i32,
-    alt: i32,
-    fix_type: u8,
-}
-
-/// Battery state: voltage and the estimated remaining charge (0..1).
+/// Battery state: voltage, the estimated remaining charge (0..1) and, where the
+/// firmware logs it, the charge drawn so far.
 #[derive(ULogMessage, Debug, Clone, Copy)]
 struct BatteryStatus {
     timestamp: u64,
     voltage_v: f32,
     remaining: f32,
-}
-
-/// The charge drawn so far, where the firmware logs it.
-#[derive(ULogMessage, Debug, Clone, Copy)]
-#[ulog(name = "battery_status")]
-struct BatteryDischarge {
-    timestamp: u64,
-    discharged_mah: f32,
+    discharged_mah: Option<f32>,
 }
 
 /// Height above the start at which the vehicle counts as flying.
@@ -76,7 +66,7 @@ const MAX_SPEED_M_S: f32 = 100.0;
 fn main() -> ExitCode {
     let path = std::env::args_os().nth(1);
     let (name, bytes) = match &path {
-        Some(p) => match MappedFile::open(p) {
+        Some(p) => match LogFile::open(p) {
             Ok(file) => (p.to_string_lossy().into_owned(), Bytes::Mapped(file)),
             Err(e) => {
                 eprintln!("flight_summary: {e}");
@@ -105,7 +95,7 @@ fn main() -> ExitCode {
 }
 
 enum Bytes {
-    Mapped(MappedFile),
+    Mapped(LogFile),
     Owned(Vec<u8>),
 }
 
@@ -122,14 +112,10 @@ fn seconds(us: u64) -> f64 {
     us as f64 / 1e6
 }
 
-/// Prints why a topic cannot be used: absent, or a format the binding cannot read.
-fn unavailable(what: &str, e: &ulog_core::Error) {
-    match e.kind() {
-        ErrorKind::TopicNotFound { name, .. } => {
-            println!("  {what:<16} no `{name}` topic in this log")
-        }
-        _ => println!("  {what:<16} unreadable: {e}"),
-    }
+/// Says why a topic cannot be used: the log lacks it (the error names the closest
+/// topics it has), or its format does not fit (every difference).
+fn unavailable(what: &str, e: &TypedError) {
+    println!("  {what:<16} {e}");
 }
 
 /// Flight time, distance flown and peak altitude from the local position estimate.
@@ -190,47 +176,50 @@ struct Fix {
     alt: f64,
 }
 
-/// The GPS track: length and highest point, from whichever binding fits the log.
-fn gps(log: &ULog<'_>) {
-    let fixes: Vec<Fix> = match log.read::<GpsPosition>(0) {
-        Ok(rows) => rows
-            .iter()
-            .filter_map(Result::ok)
-            .filter(|g| g.fix_type >= 3)
-            .map(|g| Fix {
-                lat: g.latitude_deg,
-                lon: g.longitude_deg,
-                alt: g.altitude_msl_m,
-            })
-            .collect(),
-        // An older firmware: the same topic with integer fields.
-        Err(e) if matches!(e.kind(), ErrorKind::Mismatch(_)) => {
-            match log.read::<GpsPositionInt>(0) {
-                Ok(rows) => rows
-                    .iter()
-                    .filter_map(Result::ok)
-                    .filter(|g| g.fix_type >= 3)
-                    .map(|g| Fix {
-                        lat: f64::from(g.lat) * 1e-7,
-                        lon: f64::from(g.lon) * 1e-7,
-                        alt: f64::from(g.alt) * 1e-3,
-                    })
-                    .collect(),
-                // Neither binding fits: show how the log differs from the newer one.
-                Err(_) => return unavailable("GPS:", &e),
-            }
+impl GpsFix {
+    /// The fix in degrees and metres, from whichever fields the log has.
+    fn degrees(&self) -> Option<Fix> {
+        match (self.latitude_deg, self.longitude_deg, self.altitude_msl_m) {
+            (Some(lat), Some(lon), Some(alt)) => Some(Fix { lat, lon, alt }),
+            _ => Some(Fix {
+                lat: f64::from(self.lat?) * 1e-7,
+                lon: f64::from(self.lon?) * 1e-7,
+                alt: f64::from(self.alt?) * 1e-3,
+            }),
         }
-        Err(e) => return unavailable("GPS:", &e),
+    }
+}
+
+/// The GPS track: length and highest point, from `vehicle_gps_position`, or from
+/// `sensor_gps` where a log has only that.
+fn gps(log: &ULog<'_>) {
+    let rows = match log.read::<GpsFix>(0) {
+        Ok(rows) => rows,
+        Err(e) => match log.topic("sensor_gps", 0) {
+            // The same fields under the topic newer firmware logs them in.
+            Ok(topic) => match topic.read::<GpsFix>() {
+                Ok(rows) => rows,
+                Err(e) => return unavailable("GPS:", &e),
+            },
+            Err(_) => return unavailable("GPS:", &e),
+        },
     };
+    let fixes: Vec<Fix> = rows
+        .iter()
+        .filter_map(Result::ok)
+        .filter(|g| g.fix_type >= 3)
+        .filter_map(|g| g.degrees())
+        .collect();
     if fixes.is_empty() {
-        println!("  GPS:             no 3D fix in this log");
+        println!("  GPS:             no 3D fix in `{}`", rows.topic().name());
         return;
     }
     let track: f64 = fixes.windows(2).map(|w| haversine(&w[0], &w[1])).sum();
     let highest = fixes.iter().map(|f| f.alt).fold(f64::MIN, f64::max);
     println!(
-        "  GPS track:       {track:.1} m over {} fixes, highest {highest:.1} m AMSL",
-        fixes.len()
+        "  GPS track:       {track:.1} m over {} fixes of `{}`, highest {highest:.1} m AMSL",
+        fixes.len(),
+        rows.topic().name()
     );
 }
 
@@ -244,22 +233,27 @@ fn haversine(a: &Fix, b: &Fix) -> f64 {
     2.0 * EARTH_RADIUS_M * h.sqrt().asin()
 }
 
-/// Battery used per battery instance: voltage, charge fraction and drawn mAh.
+/// Battery used per battery instance: voltage, charge fraction and drawn mAh. Each
+/// instance is read on its own: one whose format does not fit is reported alone.
 fn battery(log: &ULog<'_>) {
     let instances = match log.read_instances::<BatteryStatus>() {
-        Ok(i) if !i.is_empty() => i,
-        Ok(_) => return println!("  battery:         no `battery_status` topic in this log"),
+        Ok(instances) => instances,
         Err(e) => return unavailable("battery:", &e),
     };
     for rows in instances {
+        let rows = match rows {
+            Ok(rows) => rows,
+            Err(e) => {
+                let id = e.topic().map_or(0, |(_, id)| id);
+                unavailable(&format!("battery {id}:"), &e);
+                continue;
+            }
+        };
         let id = rows.topic().multi_id();
         let label = format!("battery {id}:");
+        let all: Vec<BatteryStatus> = rows.iter().filter_map(Result::ok).collect();
         // Before a battery is connected PX4 logs zeros; keep the readings of one.
-        let readings: Vec<BatteryStatus> = rows
-            .iter()
-            .filter_map(Result::ok)
-            .filter(|b| b.voltage_v > 1.0)
-            .collect();
+        let readings: Vec<&BatteryStatus> = all.iter().filter(|b| b.voltage_v > 1.0).collect();
         let (Some(first), Some(last)) = (readings.first(), readings.last()) else {
             println!("  {label:<16} no readings with a battery connected");
             continue;
@@ -271,17 +265,13 @@ fn battery(log: &ULog<'_>) {
         if (0.0..=1.0).contains(&first.remaining) && (0.0..=1.0).contains(&last.remaining) {
             line += &format!(", {:.1} % used", (first.remaining - last.remaining) * 100.0);
         }
-        let drawn = log.read::<BatteryDischarge>(id).ok().and_then(|rows| {
-            let mah: Vec<f32> = rows
-                .iter()
-                .filter_map(Result::ok)
-                .map(|b| b.discharged_mah)
-                .filter(|m| m.is_finite() && *m >= 0.0)
-                .collect();
-            Some(mah.last()? - mah.first()?)
-        });
-        if let Some(mah) = drawn {
-            line += &format!(", {mah:.0} mAh drawn");
+        let drawn: Vec<f32> = all
+            .iter()
+            .filter_map(|b| b.discharged_mah)
+            .filter(|m| m.is_finite() && *m >= 0.0)
+            .collect();
+        if let (Some(a), Some(b)) = (drawn.first(), drawn.last()) {
+            line += &format!(", {:.0} mAh drawn", b - a);
         }
         println!("{line}");
     }

@@ -15,11 +15,11 @@
 use std::collections::BTreeSet;
 use std::process::ExitCode;
 
-use ulog_core::typed::{BindingVisitor, PlanKind, ULogMessage};
-use ulog_core::{ErrorKind, MappedFile, ULog};
+use ulog_core::typed::{BindingVisitor, PlanKind, TypedErrorKind};
+use ulog_core::{LogFile, ULog, ULogMessage};
 
 // One struct per format of the reference log, checked when this tool is compiled.
-ulog_core::typed::ulog_module!(mod reference = "data/reference.ulg");
+ulog_core::ulog_module!(mod reference = "data/reference.ulg");
 
 /// The reference log itself, for the list of topics it subscribes.
 const REFERENCE: &[u8] = include_bytes!("../data/reference.ulg");
@@ -47,11 +47,11 @@ impl BindingVisitor for Admission<'_, '_> {
         for topic in instances {
             let label = format!("{}/{}", T::NAME, topic.multi_id());
             // One check per subscription; after it, rows decode without lookups.
-            let rows = match topic.decode::<T>() {
+            let rows = match topic.read::<T>() {
                 Ok(rows) => rows,
                 Err(e) => {
                     match e.kind() {
-                        ErrorKind::Mismatch(m) => println!("  {label:<24} REFUSED: {m}"),
+                        TypedErrorKind::Mismatch(m) => println!("  {label:<24} REFUSED: {m}"),
                         _ => println!("  {label:<24} REFUSED: {e}"),
                     }
                     self.refused.push(label);
@@ -92,7 +92,7 @@ fn main() -> ExitCode {
     let mapped;
     let owned;
     let (name, bytes): (String, &[u8]) = match &path {
-        Some(p) => match MappedFile::open(p) {
+        Some(p) => match LogFile::open(p) {
             Ok(m) => {
                 mapped = m;
                 (p.to_string_lossy().into_owned(), mapped.bytes())

@@ -15,21 +15,22 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::process::ExitCode;
 
-use ulog_core::{MappedFile, Value};
+use ulog_core::{LogFile, Value, WriteError};
 use ulog_examples::simulation::{simulate_flight, VehicleLocalPosition};
 
 fn main() -> ExitCode {
     let path = std::env::args_os()
         .nth(1)
         .unwrap_or_else(|| "simulated_flight.ulg".into());
-    let written = File::create(&path)
-        .map_err(ulog_core::Error::from)
-        .and_then(|f| simulate_flight(BufWriter::new(f)));
+    let written = match File::create(&path) {
+        Ok(f) => simulate_flight(BufWriter::new(f)).map_err(|e: WriteError| e.to_string()),
+        Err(e) => Err(e.to_string()),
+    };
     if let Err(e) = written {
         eprintln!("simulated_flight: {}: {e}", path.to_string_lossy());
         return ExitCode::FAILURE;
     }
-    let file = match MappedFile::open(&path) {
+    let file = match LogFile::open(&path) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("simulated_flight: {e}");

@@ -27,7 +27,7 @@ pub fn reference_log() -> Vec<u8> {
         b.format(&f.to_string());
     }
     for t in log.topics() {
-        b.subscribe(t.multi_id(), t.msg_id(), t.name());
+        b.subscribe(t.multi_id(), t.subscription().msg_id(), t.name());
     }
     b.into_bytes()
 }

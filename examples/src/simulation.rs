@@ -4,8 +4,11 @@
 
 use std::io::Write;
 
-use ulog_core::typed::ULogMessage;
-use ulog_core::{DefaultTypes, LogLevel, LogWriter, Result, WriterOptions};
+use ulog_core::read::LogLevel;
+use ulog_core::write::{DefaultTypes, WriterOptions};
+use ulog_core::{LogWriter, ULogMessage, WriteError};
+
+type Result<T, E = WriteError> = core::result::Result<T, E>;
 
 /// `vehicle_attitude`: the attitude quaternion.
 #[derive(ULogMessage, Debug, Clone, Copy, PartialEq)]

@@ -1,14 +1,17 @@
-//! The incremental reader fed arbitrary bytes in chunks of sizes chosen by the input:
-//! its messages and findings must equal the whole-file reader's. The one-pass scans
-//! (`scan` over the bytes, `scan_reader` over reads of those sizes, and
-//! `scan_reader_ahead` over them with chunks and room the input chose) must hand out
-//! exactly its data messages, with the same findings.
+//! The incremental reader (`PushReader`) fed arbitrary bytes in chunks of sizes chosen
+//! by the input: its messages and findings must equal the whole-file reader's. The
+//! one-pass scans (`scan` over the bytes, `scan` of a `Source::reader` over reads of
+//! those sizes, and reading ahead over them with chunks and room the input chose,
+//! `testing::read_ahead_in`) must hand out exactly its data messages, with the same
+//! findings.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use std::io::Read;
 
-use ulog_core::{Incremental, Messages, Status};
+use ulog_core::read::Messages;
+use ulog_core::stream::{Progress, PushReader};
+use ulog_core::{ScanOptions, Source};
 
 /// Reads of the sizes the input chose.
 struct Pieces<'a> {
@@ -37,7 +40,7 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         .by_ref()
         .map(|m| m.map(|m| (m.offset, m.message.msg_type())))
         .collect();
-    let mut inc = Incremental::new();
+    let mut inc = PushReader::new();
     let mut got = Vec::new();
     let mut rest = data;
     let mut i = 0;
@@ -53,12 +56,12 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         }
         loop {
             match inc.advance() {
-                Ok(Status::Ready) => {
+                Ok(Progress::Ready) => {
                     let m = inc.current().unwrap();
                     got.push((m.offset, m.message.msg_type()));
                 }
-                Ok(Status::NeedMore) => break,
-                Ok(Status::End) => break 'feed,
+                Ok(Progress::NeedMore) => break,
+                Ok(Progress::End) => break 'feed,
                 Err(e) => {
                     result = Err(e);
                     break 'feed;
@@ -68,14 +71,15 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         assert!(inc.buffered() <= 3 * 65538 + 65536);
     }
     let mut scanned = Vec::new();
-    let scan = ulog_core::scan(data, |r| scanned.push(r.offset));
+    let options = ScanOptions::default();
+    let scan = ulog_core::scan(data, &options, |r| scanned.push(r.offset));
     let mut read = Vec::new();
     let pieces = Pieces {
         data,
         sizes: &sizes,
         i: 0,
     };
-    let scan_read = ulog_core::scan_reader(pieces, |r| read.push(r.offset));
+    let scan_read = ulog_core::scan(Source::reader(pieces), &options, |r| read.push(r.offset));
     let mut ahead = Vec::new();
     let pieces = Pieces {
         data,
@@ -87,13 +91,12 @@ fuzz_target!(|input: (Vec<u16>, &[u8])| {
         _ => (4096, 1024),
     };
     let scan_ahead =
-        ulog_core::testing::scan_reader_ahead_in(pieces, chunk, room, |r| ahead.push(r.offset));
+        ulog_core::testing::read_ahead_in(pieces, chunk, room, |r| ahead.push(r.offset));
     match (expected, result) {
         (Ok(e), Ok(())) => {
             assert_eq!(e, got);
             assert_eq!(whole.findings(), inc.findings());
-            let data_offsets: Vec<u64> =
-                e.iter().filter(|m| m.1 == b'D').map(|m| m.0).collect();
+            let data_offsets: Vec<u64> = e.iter().filter(|m| m.1 == b'D').map(|m| m.0).collect();
             let (scan, scan_read) = (scan.unwrap(), scan_read.unwrap());
             assert_eq!(scanned, data_offsets);
             assert_eq!(read, data_offsets);

@@ -1,12 +1,14 @@
 //! The whole-file reader on arbitrary bytes: parse, then touch every topic's every
 //! column of every row, read its numbers in blocks (equal, bit for bit, to the
-//! one-field readers' values), and re-frame the messages. Also: `scan_topics_only`
-//! hands out exactly the decoded records and errors of `scan_topics`, with the same
-//! summary (the other subscriptions skipped, not lost).
+//! one-field readers' values), and re-frame the messages. Also: `scan_topics` with the
+//! default options hands out exactly the decoded records and errors of `scan_topics`
+//! with `raw_others`, with the same summary (the other subscriptions skipped, not
+//! lost).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
+use ulog_core::columns::{NumericBlock, NumericRow};
+use ulog_core::{ScanOptions, ULogMessage, ULogTopics};
 
 #[derive(ULogMessage, Debug)]
 struct VehicleAttitude {
@@ -37,20 +39,28 @@ impl Topics {
     }
 }
 
-/// `scan_topics` and `scan_topics_only` on `data`: the decoded records and errors of
-/// the one are those of the other, and so are the summaries.
+/// `scan_topics` with `raw_others` and with the default options on `data`: the
+/// decoded records and errors of the one are those of the other, and so are the
+/// summaries.
 fn only_is_scan_topics_without_raw(data: &[u8]) {
     let mut full = Vec::new();
-    let a = ulog_core::scan_topics::<Topics, _>(data, |r| match r {
-        Ok(TopicRecord::Message { multi_id, message }) => {
-            full.push(format!("{multi_id} {}", message.key()))
+    let raw_others = ScanOptions::default().raw_others(true);
+    let a = ulog_core::scan_topics::<Topics, _, _>(data, &raw_others, |r| match r {
+        Ok(r) => {
+            if let Some(message) = r.message {
+                full.push(format!("{} {}", r.topic.multi_id(), message.key()))
+            }
         }
-        Ok(TopicRecord::Raw { .. }) => {}
         Err(e) => full.push(format!("{e:?}")),
     });
     let mut only = Vec::new();
-    let b = ulog_core::scan_topics_only::<Topics, _>(data, |r| match r {
-        Ok(m) => only.push(format!("{} {}", m.multi_id, m.message.key())),
+    let b = ulog_core::scan_topics::<Topics, _, _>(data, &ScanOptions::default(), |r| match r {
+        Ok(m) => {
+            let message = m
+                .message
+                .expect("decoded: no raw records without raw_others");
+            only.push(format!("{} {}", m.topic.multi_id(), message.key()))
+        }
         Err(e) => only.push(format!("{e:?}")),
     });
     assert_eq!(a.is_ok(), b.is_ok());
@@ -67,16 +77,16 @@ fuzz_target!(|data: &[u8]| {
     };
     for t in log.topics() {
         let _ = t.timestamps();
-        if let Ok(cols) = t.columns() {
+        if let Ok(cols) = t.fields() {
             for p in t.payloads().take(64) {
                 for c in &cols {
                     let _ = c.read(p).map(|v| v.to_string());
                 }
             }
             let layout = t.layout().expect("columns came from it");
-            let numbers = ulog_core::NumericRow::of(layout);
+            let numbers = NumericRow::of(layout);
             let payloads: Vec<&[u8]> = t.payloads().take(64).collect();
-            let mut block = ulog_core::NumericBlock::with_capacity(layout, 5);
+            let mut block = NumericBlock::with_capacity(layout, 5);
             let mut values = Vec::new();
             for chunk in payloads.chunks(5) {
                 for p in chunk {

@@ -4,8 +4,10 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use ulog_core::typed::{CharArray, ULogMessage};
-use ulog_core::{LogLevel, LogWriter, ULog, WriterOptions};
+use ulog_core::read::LogLevel;
+use ulog_core::typed::CharArray;
+use ulog_core::write::WriterOptions;
+use ulog_core::{LogWriter, ULog, ULogMessage};
 
 #[derive(ULogMessage, Debug, Clone, PartialEq)]
 struct Nested {

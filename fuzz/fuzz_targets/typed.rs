@@ -4,7 +4,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use ulog_core::typed::{CharArray, Plan, ULogMessage};
+use ulog_core::typed::{CharArray, Plan};
+use ulog_core::ULogMessage;
 use ulog_format::{Format, Layout};
 
 #[derive(ULogMessage, Debug)]

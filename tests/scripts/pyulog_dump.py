@@ -4,6 +4,7 @@ check that pyulog accepts the logs our writer writes.
 
 Usage: pyulog_dump.py FILE.ulg
 """
+import contextlib
 import json
 import sys
 
@@ -23,7 +24,9 @@ def plain(v):
 
 
 def main():
-    ulog = ULog(sys.argv[1])
+    # pyulog prints its complaints about a log to stdout; stdout is for the JSON.
+    with contextlib.redirect_stdout(sys.stderr):
+        ulog = ULog(sys.argv[1])
     out = {
         "corrupt": bool(ulog.file_corruption),
         "info": {k: plain(v) for k, v in ulog.msg_info_dict.items()},
@@ -36,12 +39,14 @@ def main():
                    for tag, msgs in ulog.logged_messages_tagged.items()},
         "dropouts": [[d.timestamp, d.duration] for d in ulog.dropouts],
         "topics": {},
+        "datasets": [],
     }
     for d in ulog.data_list:
         cols = {}
         for f in d.field_data:
             cols[f.field_name] = [plain(v) for v in d.data[f.field_name]]
         out["topics"]["%s/%d" % (d.name, d.multi_id)] = cols
+        out["datasets"].append([d.name, d.multi_id, cols])
     json.dump(out, sys.stdout)
 
 

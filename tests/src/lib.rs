@@ -114,7 +114,7 @@ pub fn recovered_stretches(log: &ulog_core::ULog<'_>) -> Vec<(u64, u64)> {
         .collect();
     log.findings()
         .iter()
-        .filter(|f| matches!(f.kind, ulog_core::FindingKind::Corrupt(_)))
+        .filter(|f| matches!(f.kind, ulog_core::read::FindingKind::Corrupt(_)))
         .map(|f| {
             let end = f.offset + f.len;
             (

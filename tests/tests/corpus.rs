@@ -12,7 +12,7 @@
 use std::collections::BTreeMap;
 
 use serde_json::Value as J;
-use ulog_core::{MappedFile, Value};
+use ulog_core::{LogFile, Value};
 use ulog_tests::{
     cell_matches, corpus_files, expected_summary, json_matches, recovered_stretches, stem,
 };
@@ -20,7 +20,7 @@ use ulog_tests::{
 fn check_summary(path: &std::path::Path) {
     let name = stem(path);
     let exp = expected_summary(path);
-    let file = MappedFile::open(path).unwrap();
+    let file = LogFile::open(path).unwrap();
     let log = file.parse().unwrap_or_else(|e| panic!("{name}: {e}"));
 
     assert_eq!(
@@ -268,9 +268,9 @@ fn check_summary(path: &std::path::Path) {
         );
         // pyulog's data columns list a `char[N]` element by element.
         let mut cols: Vec<String> = Vec::new();
-        for c in t.columns().unwrap() {
+        for c in t.fields().unwrap() {
             match c.shape() {
-                ulog_core::FieldShape::String(n) => {
+                ulog_core::read::FieldShape::String(n) => {
                     cols.extend((0..n).map(|i| format!("{}[{i}]", c.path())))
                 }
                 _ => cols.push(c.path().to_owned()),
@@ -290,7 +290,7 @@ fn check_csv(path: &std::path::Path) -> usize {
         .join("expected")
         .join(&name)
         .join("csv");
-    let file = MappedFile::open(path).unwrap();
+    let file = LogFile::open(path).unwrap();
     let log = file.parse().unwrap();
     let mut checked = 0;
     let recovered = recovered_stretches(&log);

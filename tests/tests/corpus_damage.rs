@@ -1,7 +1,9 @@
 //! Real logs cut and fed in pieces: a truncated log keeps exactly a prefix of the full
 //! decode, and the incremental reader takes the decisions of the whole-file reader.
 
-use ulog_core::{FindingKind, Incremental, MessageAt, Messages, Status, ULog};
+use ulog_core::read::{FindingKind, MessageAt, Messages};
+use ulog_core::stream::{Progress, PushReader};
+use ulog_core::ULog;
 use ulog_tests::{corpus_dir, corpus_files, stem};
 
 fn frame(bytes: &[u8]) -> (Vec<MessageAt<'_>>, Vec<ulog_core::Finding>) {
@@ -63,11 +65,11 @@ fn incremental_reader_equals_whole_file_reader_on_every_corpus_log() {
         let (all, findings) = frame(&bytes);
         assert_eq!(all.len() as u64, log.message_count(), "{}", stem(&path));
         for chunk in [997usize, 65536] {
-            let mut inc = Incremental::new();
+            let mut inc = PushReader::new();
             let mut i = 0;
             let mut max_buffered = 0;
-            let mut check = |inc: &mut Incremental| {
-                while inc.advance().unwrap() == Status::Ready {
+            let mut check = |inc: &mut PushReader| {
+                while inc.advance().unwrap() == Progress::Ready {
                     let m = inc.current().unwrap();
                     assert_eq!(m, all[i], "{}: message {i}, chunk {chunk}", stem(&path));
                     i += 1;

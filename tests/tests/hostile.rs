@@ -2,12 +2,14 @@
 //! agrees with the whole-file reader whatever the chunking.
 
 use proptest::prelude::*;
-use ulog_core::{Error, Finding, Incremental, MessageAt, Messages, Status, ULog};
+use ulog_core::read::{MessageAt, Messages};
+use ulog_core::stream::{Progress, PushReader};
+use ulog_core::{Finding, ReadError, ULog};
 
 /// Messages (offset and type) and findings of one read.
 type Framed = (Vec<(u64, u8)>, Vec<Finding>);
 
-fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<Finding>), Error> {
+fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<Finding>), ReadError> {
     let mut it = Messages::new(bytes);
     let mut out = Vec::new();
     for m in it.by_ref() {
@@ -16,8 +18,8 @@ fn whole(bytes: &[u8]) -> Result<(Vec<MessageAt<'_>>, Vec<Finding>), Error> {
     Ok((out, it.findings().to_vec()))
 }
 
-fn incremental(bytes: &[u8], chunks: &[usize]) -> Result<Framed, Error> {
-    let mut inc = Incremental::new();
+fn incremental(bytes: &[u8], chunks: &[usize]) -> Result<Framed, ReadError> {
+    let mut inc = PushReader::new();
     let mut out = Vec::new();
     let mut rest = bytes;
     let mut i = 0;
@@ -26,13 +28,13 @@ fn incremental(bytes: &[u8], chunks: &[usize]) -> Result<Framed, Error> {
         inc.push(&rest[..n]);
         rest = &rest[n..];
         i += 1;
-        while inc.advance()? == Status::Ready {
+        while inc.advance()? == Progress::Ready {
             let m = inc.current().unwrap();
             out.push((m.offset, m.message.msg_type()));
         }
     }
     inc.finish();
-    while inc.advance()? == Status::Ready {
+    while inc.advance()? == Progress::Ready {
         let m = inc.current().unwrap();
         out.push((m.offset, m.message.msg_type()));
     }
@@ -70,7 +72,7 @@ proptest! {
 
     #[test]
     fn arbitrary_bytes_after_a_header(tail in proptest::collection::vec(any::<u8>(), 0..4096), chunks in proptest::collection::vec(1usize..300, 1..5)) {
-        let mut bytes = ulog_core::MAGIC.to_vec();
+        let mut bytes = ulog_core::format::definitions::MAGIC.to_vec();
         bytes.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 0]);
         bytes.extend_from_slice(&tail);
         check(&bytes, &chunks);

@@ -1,9 +1,9 @@
 //! Each rule of the reader, on bytes built for it.
 
+use ulog_core::read::{Corruption, FindingKind, LogLevel, ReadErrorKind};
+use ulog_core::stream::{Progress, PushReader};
 use ulog_core::testing::LogBuilder;
-use ulog_core::{
-    Corruption, ErrorKind, FindingKind, Incremental, LogLevel, Message, Status, ULog, Value,
-};
+use ulog_core::{LookupError, Message, ULog, Value};
 
 /// A version-1 log with one topic `t:uint64_t timestamp;uint32_t v;uint8_t[4] _padding0;`.
 fn base() -> LogBuilder {
@@ -30,26 +30,26 @@ fn values(log: &ULog<'_>, topic: &str, multi_id: u8, path: &str) -> Vec<String> 
 
 #[test]
 fn header_errors_say_what_was_found() {
-    let kind = |b: &[u8]| ULog::parse(b).unwrap_err().kind;
-    assert_eq!(kind(b""), ErrorKind::Empty);
+    let kind = |b: &[u8]| ULog::parse(b).unwrap_err().kind().clone();
+    assert_eq!(kind(b""), ReadErrorKind::Empty);
     assert_eq!(
         kind(&[0u8; 4096]),
-        ErrorKind::NotULog {
+        ReadErrorKind::NotULog {
             found: "zero bytes where the header should be".into()
         }
     );
     assert_eq!(
         kind(b"\x1f\x8b\x08\0\0\0\0\0\0\0\0\0\0\0\0\0\0"),
-        ErrorKind::NotULog {
+        ReadErrorKind::NotULog {
             found: "a gzip file".into()
         }
     );
     assert!(
-        matches!(kind(b"hello world, this is text"), ErrorKind::NotULog { found } if found.starts_with("text"))
+        matches!(kind(b"hello world, this is text"), ReadErrorKind::NotULog { found } if found.starts_with("text"))
     );
     assert_eq!(
-        kind(&ulog_core::MAGIC[..5]),
-        ErrorKind::TruncatedHeader { len: 5 }
+        kind(&ulog_core::format::definitions::MAGIC[..5]),
+        ReadErrorKind::TruncatedHeader { len: 5 }
     );
     let e = ULog::parse(b"").unwrap_err();
     assert!(e.to_string().contains("empty"), "{e}");
@@ -156,16 +156,16 @@ fn flag_bits_of_any_length_and_unknown_bits() {
         b.flag_bits([0; 8], incompat, [0; 3]);
         let e = ULog::parse(b.bytes()).unwrap_err();
         assert_eq!(
-            e.kind,
-            ErrorKind::UnknownIncompatFlags {
+            *e.kind(),
+            ReadErrorKind::UnknownIncompatFlags {
                 byte,
                 bits: incompat[byte]
             }
         );
-        assert_eq!(e.offset, 16 + 3 + 8 + byte as u64);
+        assert_eq!(e.position(), Some(16 + 3 + 8 + byte as u64));
         assert!(e.to_string().contains("refused"));
         // The incremental reader refuses it too.
-        let mut inc = Incremental::new();
+        let mut inc = PushReader::new();
         inc.push(b.bytes());
         inc.finish();
         assert!(inc.advance().is_err());
@@ -258,7 +258,7 @@ fn formats_nest_before_definition_and_bad_ones_fail_alone() {
     let outer = log.topic("outer/a-b", 0).unwrap();
     assert_eq!(outer.layout().unwrap().size(), 8 + 2 * 6);
     let cols: Vec<_> = outer
-        .columns()
+        .fields()
         .unwrap()
         .iter()
         .map(|c| c.path().to_owned())
@@ -282,8 +282,8 @@ fn formats_nest_before_definition_and_bad_ones_fail_alone() {
     // The circular format is an error of that topic alone.
     let cyc = log.topic("cyc_a", 0).unwrap();
     assert!(matches!(
-        cyc.layout().unwrap_err().kind,
-        ErrorKind::Layout(_)
+        cyc.layout().unwrap_err(),
+        LookupError::Layout { .. }
     ));
     assert_eq!(cyc.len(), 1, "its data messages are still indexed");
     assert!(log
@@ -322,7 +322,7 @@ fn trailing_padding_may_be_omitted_or_present_other_sizes_are_skipped() {
     );
     let t = log.topic("t", 0).unwrap();
     assert!(t.field("_padding0").is_err(), "padding is never a value");
-    assert_eq!(t.columns().unwrap().len(), 2);
+    assert_eq!(t.fields().unwrap().len(), 2);
 }
 
 #[test]
@@ -457,7 +457,7 @@ fn subscriptions_anywhere_unsubscribe_unknown_ids_and_instances() {
     assert_eq!(ids, [77, 2]);
     assert_eq!(log.topic_instances("t").len(), 2);
     let e = log.topic("vehicle_stuff", 0).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::TopicNotFound { .. }));
+    assert!(matches!(e, LookupError::Topic(_)));
     let e = log.topic("t", 0).unwrap().field("vv").unwrap_err();
     assert!(e.to_string().contains("did you mean `v`"), "{e}");
 }
@@ -618,16 +618,16 @@ fn incremental_reader_matches_the_whole_file_reader_in_any_chunks() {
         .collect();
     let whole_findings = ULog::parse(&bytes).unwrap().findings().to_vec();
     for chunk in [1usize, 2, 3, 7, 64, 1000, bytes.len()] {
-        let mut inc = Incremental::new();
+        let mut inc = PushReader::new();
         let mut got = Vec::new();
         for c in bytes.chunks(chunk) {
             inc.push(c);
-            while inc.advance().unwrap() == Status::Ready {
+            while inc.advance().unwrap() == Progress::Ready {
                 got.push(inc.current().unwrap().offset);
             }
         }
         inc.finish();
-        while inc.advance().unwrap() == Status::Ready {
+        while inc.advance().unwrap() == Progress::Ready {
             got.push(inc.current().unwrap().offset);
         }
         let expect: Vec<u64> = whole.iter().map(|m| m.offset).collect();
@@ -642,16 +642,16 @@ fn data_messages_carry_their_payload_and_subscription() {
     let mut b = base();
     b.data(0, &t_payload(5, 6));
     let bytes = b.into_bytes();
-    let mut inc = Incremental::new();
+    let mut inc = PushReader::new();
     inc.push(&bytes);
     inc.finish();
     let mut seen = false;
-    while inc.advance().unwrap() == Status::Ready {
+    while inc.advance().unwrap() == Progress::Ready {
         if let Some(m) = inc.current() {
             if let Message::Data { msg_id, payload } = m.message {
-                let (name, multi, layout) = inc.subscription(msg_id).unwrap();
-                assert_eq!((name, multi), ("t", 0));
-                assert!(layout.unwrap().accepts_len(payload.len()));
+                let sub = inc.subscription(msg_id).unwrap();
+                assert_eq!((sub.name(), sub.multi_id()), ("t", 0));
+                assert!(sub.layout().unwrap().accepts_len(payload.len()));
                 seen = true;
             }
         }
@@ -714,7 +714,7 @@ fn not_ulog_is_described_from_the_first_bytes_only() {
     let mut bytes = vec![0u8; 46];
     bytes.extend_from_slice(&[0xff; 10]);
     let whole = ULog::parse(&bytes).unwrap_err();
-    let mut inc = Incremental::new();
+    let mut inc = PushReader::new();
     inc.push(&bytes[..20]);
     let chunked = inc.advance().unwrap_err();
     assert_eq!(whole, chunked);
@@ -745,7 +745,7 @@ fn a_refusal_is_final_in_the_incremental_reader() {
     let mut b = LogBuilder::new(1, 0);
     b.flag_bits([0; 8], [2, 0, 0, 0, 0, 0, 0, 0], [0; 3]);
     b.format("t:uint64_t timestamp;");
-    let mut inc = Incremental::new();
+    let mut inc = PushReader::new();
     inc.push(b.bytes());
     inc.finish();
     let first = inc.advance().unwrap_err();
@@ -757,10 +757,10 @@ fn pushing_drops_the_current_message() {
     let mut b = base();
     b.data(0, &t_payload(1, 1));
     let bytes = b.into_bytes();
-    let mut inc = Incremental::new();
+    let mut inc = PushReader::new();
     inc.push(&bytes);
     let mut ready = false;
-    while let Ok(Status::Ready) = inc.advance() {
+    while let Ok(Progress::Ready) = inc.advance() {
         ready = true;
         inc.push(&[]);
         assert!(inc.current().is_none());

@@ -1,12 +1,12 @@
-//! One-pass scans (`scan`, `scan_reader`, `scan_reader_ahead`, `scan_topics`,
-//! `scan_topics_only`) hand out exactly the data messages the whole-file parse
+//! One-pass scans (`scan` of bytes, of a reader, read ahead; `scan_topics` with and
+//! without `raw_others`) hand out exactly the data messages the whole-file parse
 //! indexes, in file order, with the same findings, on every corpus log (damaged ones
 //! included) and however the bytes arrive.
 
 use std::io::Read;
 
-use ulog_core::typed::{TopicRecord, ULogMessage, ULogTopics};
-use ulog_core::{Order, ULog};
+use ulog_core::typed::TypedErrorKind;
+use ulog_core::{ScanOptions, Source, ULog, ULogMessage, ULogTopics};
 use ulog_tests::{corpus_dir, corpus_files, stem};
 
 /// Every log to check: the sample and the corpus.
@@ -61,31 +61,40 @@ fn scans_hand_out_what_the_parse_indexes() {
     let mut checked = 0;
     for (name, bytes) in logs() {
         let Ok(log) = ULog::parse(&bytes) else {
-            assert!(ulog_core::scan(&bytes, |_| {}).is_err(), "{name}");
             assert!(
-                ulog_core::scan_reader(&bytes[..], |_| {}).is_err(),
+                ulog_core::scan(&bytes, &ScanOptions::default(), |_| {}).is_err(),
+                "{name}"
+            );
+            assert!(
+                ulog_core::scan(Source::reader(&bytes[..]), &ScanOptions::default(), |_| {})
+                    .is_err(),
                 "{name}"
             );
             continue;
         };
         let expected = indexed(&log);
         let mut got = Vec::new();
-        let summary = ulog_core::scan(&bytes, |r| {
-            let topic = log.topic_at(r.subscription);
+        let summary = ulog_core::scan(&bytes, &ScanOptions::default(), |r| {
+            let topic = log.topic_at(r.topic.index());
             assert_eq!(
-                (r.name, r.multi_id),
+                (r.topic.name(), r.topic.multi_id()),
                 (topic.name(), topic.multi_id()),
                 "{name}"
             );
-            assert_eq!(r.subscribed_at, topic.subscription_offset(), "{name}");
+            assert_eq!(r.topic.offset(), topic.subscription().offset(), "{name}");
             assert_eq!(
-                r.layout.is_some(),
-                log.topic_at(r.subscription).layout().is_ok()
+                r.topic.layout().ok().is_some(),
+                log.topic_at(r.topic.index()).layout().is_ok()
             );
-            got.push((r.offset, r.subscription, r.payload));
+            got.push((r.offset, r.topic.index(), r.payload.to_vec()));
         })
         .unwrap();
-        assert_eq!(got, expected, "{name}");
+        // The record's payload lives only as long as the callback: compared as copies.
+        let expected_owned: Vec<(u64, usize, Vec<u8>)> = expected
+            .iter()
+            .map(|&(o, s, p)| (o, s, p.to_vec()))
+            .collect();
+        assert_eq!(got, expected_owned, "{name}");
         assert_eq!(summary.messages, log.message_count(), "{name}");
         assert_eq!(summary.data_messages as usize, expected.len(), "{name}");
         assert_eq!(summary.findings, log.findings(), "{name}");
@@ -93,11 +102,8 @@ fn scans_hand_out_what_the_parse_indexes() {
         assert_eq!(summary.flag_bits.as_ref(), log.flag_bits(), "{name}");
         assert_eq!(summary.topics.len(), log.subscriptions().len(), "{name}");
         for (t, topic) in summary.topics.iter().zip(log.topics()) {
-            assert_eq!(
-                (t.name.as_str(), t.multi_id),
-                (topic.name(), topic.multi_id())
-            );
-            assert_eq!(t.msg_id, topic.msg_id(), "{name}");
+            assert_eq!((t.name(), t.multi_id()), (topic.name(), topic.multi_id()));
+            assert_eq!(t.msg_id(), topic.subscription().msg_id(), "{name}");
         }
 
         // One thread, then reading ahead: with the library's chunks, and with small
@@ -109,14 +115,18 @@ fn scans_hand_out_what_the_parse_indexes() {
                 bytes: &bytes,
                 state: seed,
             };
-            let push = |r: ulog_core::ScanRecord<'_, '_>| {
-                streamed.push((r.offset, r.subscription, r.payload.to_vec()))
+            let push = |r: ulog_core::DataRecord<'_>| {
+                streamed.push((r.offset, r.topic.index(), r.payload.to_vec()))
             };
             let s = match ahead {
-                None => ulog_core::scan_reader(drip, push),
-                Some(None) => ulog_core::scan_reader_ahead(drip, push),
+                None => ulog_core::scan(Source::reader(drip), &ScanOptions::default(), push),
+                Some(None) => ulog_core::scan(
+                    Source::reader(drip),
+                    &ScanOptions::default().read_ahead(true),
+                    push,
+                ),
                 Some(Some((chunk, room))) => {
-                    ulog_core::testing::scan_reader_ahead_in(drip, chunk, room, push)
+                    ulog_core::testing::read_ahead_in(drip, chunk, room, push)
                 }
             }
             .unwrap();
@@ -161,6 +171,77 @@ enum Topics {
     Esc(EscStatus),
 }
 
+/// An error of a walk as text: the topic instance, where, and what.
+fn error_text(topic: Option<(&str, u8)>, position: Option<u64>, what: &str) -> String {
+    format!("error {topic:?} at {position:?}: {what}")
+}
+
+/// A record of `scan_topics` as text: where it is, its topic instance, timestamp and
+/// payload, and the message decoded; an error as `error_text`.
+fn walk_text(r: &Result<ulog_core::TopicRecord<'_, Topics>, ulog_core::TypedError>) -> String {
+    match r {
+        Ok(r) => format!(
+            "{} {}/{} {:?} {:?} {:?}",
+            r.offset,
+            r.topic.name(),
+            r.topic.multi_id(),
+            r.timestamp,
+            r.payload,
+            r.message
+        ),
+        Err(e) => match e.kind() {
+            TypedErrorKind::Mismatch(m) => error_text(e.topic(), e.position(), &format!("{m:?}")),
+            TypedErrorKind::NoLayout(l) => error_text(e.topic(), e.position(), &format!("{l:?}")),
+            _ => format!("{e:?}"),
+        },
+    }
+}
+
+/// The file-order walk built from the parse's index (what `ULog::walk` did): every
+/// data message in file order, each subscription planned at its first record with
+/// the enum's own `plan` (an error then if its format does not fit, its records
+/// raw after it), the others raw.
+fn index_walk(log: &ULog<'_>) -> Vec<String> {
+    let n = log.subscriptions().len();
+    let mut plans: Vec<Option<Option<ulog_core::typed::TopicPlan>>> = vec![None; n];
+    let timestamps: Vec<Vec<u64>> = log.topics().map(|t| t.timestamps()).collect();
+    let mut rows = vec![0usize; n];
+    let mut out = Vec::new();
+    for (offset, i, payload) in indexed(log) {
+        let sub = log.topic_at(i).subscription();
+        let instance = Some((sub.name(), sub.multi_id()));
+        let plan = plans[i].get_or_insert_with(|| {
+            let variant = Topics::variant_of(sub.name())?;
+            match sub.layout() {
+                Err(l) => {
+                    out.push(error_text(instance, Some(sub.offset()), &format!("{l:?}")));
+                    None
+                }
+                Ok(layout) => match Topics::plan(variant, layout)? {
+                    Ok(plan) => Some(plan),
+                    Err(m) => {
+                        out.push(error_text(instance, Some(sub.offset()), &format!("{m:?}")));
+                        None
+                    }
+                },
+            }
+        });
+        let message = plan
+            .as_ref()
+            .map(|p| Topics::decode(p, payload).expect("framing checked the size"));
+        let timestamp = sub
+            .timestamp_field()
+            .and_then(|_| timestamps[i].get(rows[i]).copied());
+        rows[i] += 1;
+        out.push(format!(
+            "{offset} {}/{} {timestamp:?} {payload:?} {message:?}",
+            sub.name(),
+            sub.multi_id()
+        ));
+    }
+    out
+}
+
 #[test]
 fn scan_topics_is_the_file_order_walk() {
     let mut decoded = 0;
@@ -169,13 +250,23 @@ fn scan_topics_is_the_file_order_walk() {
         let Ok(log) = ULog::parse(&bytes) else {
             continue;
         };
-        let walked: Vec<String> = log
-            .walk::<Topics>(Order::File)
-            .map(|r| format!("{r:?}"))
-            .collect();
+        // The walk of the parsed log's index, every record (the others raw), in file
+        // order; and `scan_topics` of the parsed log, which must agree with it too.
+        let walked = index_walk(&log);
+        let all = ScanOptions::default().raw_others(true);
+        let mut of_log: Vec<String> = Vec::new();
+        ulog_core::scan_topics::<Topics, _, _>(&log, &all, |r| of_log.push(walk_text(&r))).unwrap();
+        assert_eq!(of_log.len(), walked.len(), "{name}: of the parsed log");
+        for (i, (s, w)) in of_log.iter().zip(&walked).enumerate() {
+            assert_eq!(s, w, "{name}: record {i} of the parsed log");
+        }
         let mut scanned = Vec::new();
-        ulog_core::scan_topics::<Topics, _>(&bytes, |r| {
-            if let Ok(TopicRecord::Message { message, .. }) = &r {
+        ulog_core::scan_topics::<Topics, _, _>(&bytes, &all, |r| {
+            if let Ok(ulog_core::TopicRecord {
+                message: Some(message),
+                ..
+            }) = &r
+            {
                 let timestamp = match message {
                     Topics::Attitude(a) => a.timestamp,
                     Topics::Sensors(s) => s.timestamp,
@@ -186,12 +277,12 @@ fn scan_topics_is_the_file_order_walk() {
             }
             if let Err(e) = &r {
                 assert!(
-                    matches!(e.kind, ulog_core::ErrorKind::Mismatch(_)),
+                    matches!(e.kind(), TypedErrorKind::Mismatch(_)),
                     "{name}: {e}"
                 );
                 mismatches += 1;
             }
-            scanned.push(format!("{r:?}"));
+            scanned.push(walk_text(&r));
         })
         .unwrap();
         assert_eq!(scanned.len(), walked.len(), "{name}");
@@ -212,40 +303,50 @@ fn scan_topics_only_is_scan_topics_without_the_raw_records() {
     for (name, bytes) in logs() {
         // Offsets of the data messages, in file order, to place scan_topics' records.
         let mut offsets = Vec::new();
-        let Ok(all) = ulog_core::scan(&bytes, |r| offsets.push(r.offset)) else {
-            assert!(ulog_core::scan_topics_only::<Topics, _>(&bytes, |_| {}).is_err());
+        let Ok(all) = ulog_core::scan(&bytes, &ScanOptions::default(), |r| offsets.push(r.offset))
+        else {
+            assert!(ulog_core::scan_topics::<Topics, _, _>(
+                &bytes,
+                &ScanOptions::default(),
+                |_| {}
+            )
+            .is_err());
             continue;
         };
         let mut expected = Vec::new();
         let mut records = offsets.iter();
-        let full = ulog_core::scan_topics::<Topics, _>(&bytes, |r| match r {
-            Ok(TopicRecord::Message { multi_id, message }) => {
+        let raw_others = ScanOptions::default().raw_others(true);
+        let full = ulog_core::scan_topics::<Topics, _, _>(&bytes, &raw_others, |r| match r {
+            Ok(r) => {
                 let offset = records.next().unwrap();
-                expected.push(format!("{offset} {multi_id} {message:?}"));
-            }
-            Ok(TopicRecord::Raw { .. }) => {
-                records.next().unwrap();
+                assert_eq!(r.offset, *offset, "{name}");
+                if let Some(message) = r.message {
+                    let multi_id = r.topic.multi_id();
+                    expected.push(format!("{offset} {multi_id} {message:?}"));
+                }
             }
             Err(e) => expected.push(format!("{e:?}")),
         })
         .unwrap();
         assert!(records.next().is_none(), "{name}");
         let mut only = Vec::new();
-        let summary = ulog_core::scan_topics_only::<Topics, _>(&bytes, |r| match r {
-            Ok(m) => {
-                decoded += 1;
-                only.push(format!("{} {} {:?}", m.offset, m.multi_id, m.message));
-            }
-            Err(e) => {
-                assert!(
-                    matches!(e.kind, ulog_core::ErrorKind::Mismatch(_)),
-                    "{name}: {e}"
-                );
-                mismatches += 1;
-                only.push(format!("{e:?}"));
-            }
-        })
-        .unwrap();
+        let summary =
+            ulog_core::scan_topics::<Topics, _, _>(&bytes, &ScanOptions::default(), |r| match r {
+                Ok(m) => {
+                    decoded += 1;
+                    let message = m.message.expect("only named topics are handed out");
+                    only.push(format!("{} {} {:?}", m.offset, m.topic.multi_id(), message));
+                }
+                Err(e) => {
+                    assert!(
+                        matches!(e.kind(), TypedErrorKind::Mismatch(_)),
+                        "{name}: {e}"
+                    );
+                    mismatches += 1;
+                    only.push(format!("{e:?}"));
+                }
+            })
+            .unwrap();
         assert_eq!(only.len(), expected.len(), "{name}");
         for (i, (o, e)) in only.iter().zip(&expected).enumerate() {
             assert_eq!(o, e, "{name}: record {i}");
@@ -262,7 +363,7 @@ fn scan_topics_only_is_scan_topics_without_the_raw_records() {
 
 /// One subscription's block, its column readers, and the payloads it holds.
 struct Pending {
-    block: ulog_core::NumericBlock,
+    block: ulog_core::columns::NumericBlock,
     columns: Vec<ulog_core::FieldReader>,
     min_size: usize,
     payloads: Vec<Vec<u8>>,
@@ -296,18 +397,19 @@ fn numeric_blocks_read_every_number_as_field_readers_do() {
             bytes: &bytes,
             state: 7,
         };
-        let scanned = ulog_core::scan_reader(drip, |r| {
-            if r.subscription >= pending.len() {
-                pending.resize_with(r.subscription + 1, || None);
+        let scanned = ulog_core::scan(Source::reader(drip), &ScanOptions::default(), |r| {
+            let i = r.topic.index();
+            if i >= pending.len() {
+                pending.resize_with(i + 1, || None);
             }
-            let slot = pending[r.subscription].get_or_insert_with(|| {
-                r.layout.map(|l| Pending {
+            let slot = pending[i].get_or_insert_with(|| {
+                r.topic.layout().ok().map(|l| Pending {
                     // A small block, so that most logs fill it many times.
-                    block: ulog_core::NumericBlock::with_capacity(l, 7),
+                    block: ulog_core::columns::NumericBlock::with_capacity(l, 7),
                     // The scalar columns, from the one-field readers.
-                    columns: ulog_core::FieldReader::columns_of(l)
+                    columns: ulog_core::FieldReader::all(l)
                         .into_iter()
-                        .filter(|c| c.shape() == ulog_core::FieldShape::Scalar)
+                        .filter(|c| c.shape() == ulog_core::read::FieldShape::Scalar)
                         .collect(),
                     min_size: l.min_size(),
                     payloads: Vec::new(),

@@ -10,7 +10,8 @@
 //! around damage, appended offsets and the file's start, so cuts there are read
 //! afresh; a sample of the other cuts is read afresh too, and must agree.
 
-use ulog_core::{Finding, FindingKind, MessageAt, Messages};
+use ulog_core::read::{FindingKind, MessageAt, Messages};
+use ulog_core::Finding;
 use ulog_tests::{corpus_files, stem};
 
 /// A small deterministic generator (xorshift64*), so every run sweeps the same cuts.
@@ -190,7 +191,7 @@ fn truncation_sweep(name: &str, bytes: &[u8], rng: &mut Rng) -> Sweep {
                 .iter()
                 .filter(|f| {
                     f.kind == FindingKind::Truncated
-                        || (f.kind == FindingKind::Corrupt(ulog_core::Corruption::ZeroFill)
+                        || (f.kind == FindingKind::Corrupt(ulog_core::read::Corruption::ZeroFill)
                             && bytes[last_end..p].iter().all(|&b| b == 0))
                 })
                 .collect();

@@ -4,8 +4,8 @@
 //! bindings generated from the log (`ulog_module!`), and to the reader's generic
 //! field access, column by column.
 
-use ulog_core::typed::{PlanKind, ULogMessage};
-use ulog_core::{MappedFile, Topic, ULog};
+use ulog_core::typed::PlanKind;
+use ulog_core::{LogFile, Topic, ULog, ULogMessage};
 
 #[derive(ULogMessage, Debug, Clone, Copy, PartialEq)]
 struct EscReport {
@@ -68,9 +68,9 @@ struct Heartbeat {
 }
 
 #[cfg(has_corpus)]
-ulog_core::typed::ulog_module!(mod esc_log = "../../shared/corpus/files/esc_status_log.ulg");
+ulog_core::ulog_module!(mod esc_log = "../../shared/corpus/files/esc_status_log.ulg");
 
-fn corpus_log(name: &str) -> Option<MappedFile> {
+fn corpus_log(name: &str) -> Option<LogFile> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/corpus/files")
         .join(name);
@@ -78,7 +78,7 @@ fn corpus_log(name: &str) -> Option<MappedFile> {
         eprintln!("{name}: SKIPPED, no shared corpus at ../shared/corpus");
         return None;
     }
-    Some(MappedFile::open(path).unwrap())
+    Some(LogFile::open(path).unwrap())
 }
 
 /// Every (path, value) of a decoded message, values as text (`NaN`s compare equal,
@@ -93,7 +93,7 @@ fn fields<T: ULogMessage>(m: &T) -> Vec<(String, String)> {
 fn generic(topic: &Topic<'_, '_>, i: usize) -> Vec<(String, String)> {
     let payload = topic.payload(i).unwrap();
     topic
-        .columns()
+        .fields()
         .unwrap()
         .iter()
         .map(|c| {
@@ -195,12 +195,14 @@ fn heartbeats_of_every_corpus_log() {
     for entry in entries {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let file = MappedFile::open(&path).unwrap();
+        let file = LogFile::open(&path).unwrap();
         let Ok(log) = file.parse() else { continue };
         for topic in log.topic_instances("telemetry_status") {
             if topic.field("heartbeat_time").is_err() {
                 // Firmware before heartbeats were logged: the binding is refused.
-                let e = topic.plan::<Heartbeat>().unwrap_err();
+                let Err(e) = topic.read::<Heartbeat>() else {
+                    panic!("{name}: a binding without `heartbeat_time` is accepted");
+                };
                 assert!(e
                     .to_string()
                     .contains("field `heartbeat_time`: missing in the log"));
@@ -209,7 +211,7 @@ fn heartbeats_of_every_corpus_log() {
             checked += agrees_with_reader::<Heartbeat>(&log, &name, topic.multi_id());
         }
         for topic in log.topic_instances("esc_status") {
-            if topic.plan::<EscStatus>().is_ok() {
+            if topic.read::<EscStatus>().is_ok() {
                 checked += agrees_with_reader::<EscStatus>(&log, &name, topic.multi_id());
             }
         }

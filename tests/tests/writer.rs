@@ -2,11 +2,10 @@
 //! trips (property tests), crash safety, appended crash data, section rules.
 
 use proptest::prelude::*;
-use ulog_core::typed::{CharArray, ULogMessage};
-use ulog_core::{
-    append, copy_log, DefaultTypes, ErrorKind, FindingKind, LogLevel, LogWriter, ULog, Value,
-    WriterOptions,
-};
+use ulog_core::read::{FindingKind, LogLevel};
+use ulog_core::typed::{CharArray, TypedErrorKind};
+use ulog_core::write::{DefaultTypes, WriteErrorKind, WriterOptions};
+use ulog_core::{append, copy_log, LogWriter, ULog, ULogMessage, Value};
 use ulog_tests::{corpus_files, stem};
 
 #[test]
@@ -145,7 +144,10 @@ fn definitions_messages_and_data_section_messages_read_back() {
         .format("raw_topic:uint64_t timestamp;uint16_t v;")
         .err()
         .unwrap();
-    assert!(matches!(e.kind, ErrorKind::FormatUndefined(_)), "{e}");
+    assert!(
+        matches!(e.kind(), WriteErrorKind::FormatConflict { .. }),
+        "{e}"
+    );
     let raw = w.subscribe_raw("raw_topic", 0).unwrap();
     let mut data = w.start_data().unwrap();
     data.write_raw(&raw, &[&5000u64.to_le_bytes()[..], &[9]].concat())
@@ -153,21 +155,21 @@ fn definitions_messages_and_data_section_messages_read_back() {
     data.write_raw(&raw, &[&6000u64.to_le_bytes()[..], &[10], &[0; 7]].concat())
         .unwrap();
     let e = data.write_raw(&raw, &[1, 2, 3]).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::PayloadSize { .. }));
+    assert!(matches!(e.kind(), WriteErrorKind::PayloadSize { .. }));
     data.param("MPC_XY_VEL_MAX", 8.0f32).unwrap();
     data.log(LogLevel::Warning, 6000, "low battery").unwrap();
     data.tagged_log(LogLevel::Info, 3, 6500, "tagged").unwrap();
     data.dropout(25).unwrap();
     data.sync().unwrap();
     let e = data.param("bad name", 1i32).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::InvalidName(_)));
+    assert!(matches!(e.kind(), WriteErrorKind::InvalidName(_)));
     let e = data.subscribe_raw("never_declared", 0).unwrap_err();
-    assert!(matches!(e.kind, ErrorKind::FormatUndefined(_)));
+    assert!(matches!(e.kind(), WriteErrorKind::FormatNotDeclared { .. }));
     let too_long = "x".repeat(70_000);
     let e = data.log(LogLevel::Info, 0, &too_long).unwrap_err();
     assert!(matches!(
-        e.kind,
-        ErrorKind::MessageTooLarge { msg_type: b'L', .. }
+        e.kind(),
+        WriteErrorKind::MessageTooLarge { msg_type: b'L', .. }
     ));
     let bytes = data.finish().unwrap();
 
@@ -248,7 +250,7 @@ fn a_crash_at_any_byte_leaves_the_complete_messages_readable() {
         let got: Vec<_> = match log.read::<VehicleLocalPosition>(0) {
             Ok(rows) => rows.iter().map(|r| r.unwrap()).collect(),
             Err(e) => {
-                assert!(matches!(e.kind, ErrorKind::TopicNotFound { .. }));
+                assert!(matches!(e.kind(), TypedErrorKind::NotFound { .. }));
                 Vec::new()
             }
         };
@@ -293,8 +295,8 @@ fn crash_data_is_appended_as_the_spec_describes() {
         let len = bytes.len() as u64;
         let mut file = std::io::Cursor::new(std::mem::take(&mut bytes));
         let mut app = append(&mut file, WriterOptions::default()).unwrap();
-        let h = app.handle::<VehicleLocalPosition>(0).unwrap();
-        app.data
+        let h = app.continue_topic::<VehicleLocalPosition>(0).unwrap();
+        app.writer()
             .write(
                 &h,
                 &VehicleLocalPosition {
@@ -305,8 +307,8 @@ fn crash_data_is_appended_as_the_spec_describes() {
                 },
             )
             .unwrap();
-        let crash = app.data.subscribe::<HardfaultInfo>(0).unwrap();
-        app.data
+        let crash = app.writer().subscribe::<HardfaultInfo>(0).unwrap();
+        app.writer()
             .write(
                 &crash,
                 &HardfaultInfo {
@@ -315,7 +317,7 @@ fn crash_data_is_appended_as_the_spec_describes() {
                 },
             )
             .unwrap();
-        app.data.finish().unwrap();
+        app.finish().unwrap();
         bytes = file.into_inner();
         let log = ULog::parse(&bytes).unwrap();
         assert!(log.flag_bits().unwrap().has_data_appended());
@@ -337,13 +339,13 @@ fn crash_data_is_appended_as_the_spec_describes() {
             .read_instances::<HardfaultInfo>()
             .unwrap()
             .iter()
-            .map(|r| r.len())
+            .map(|r| r.as_ref().unwrap().len())
             .sum();
         assert_eq!(crashes, round as usize + 1);
     }
     let mut file = std::io::Cursor::new(bytes);
     let e = append(&mut file, WriterOptions::default()).err().unwrap();
-    assert_eq!(e.kind, ErrorKind::NoFreeAppendedOffset);
+    assert_eq!(*e.kind(), WriteErrorKind::NoFreeAppendedOffset);
     // A version 0 log has no flag bits to record the offset in.
     let mut v0 = ulog_core::testing::LogBuilder::new(0, 0);
     v0.format("t:uint64_t timestamp;");
@@ -353,7 +355,7 @@ fn crash_data_is_appended_as_the_spec_describes() {
     )
     .err()
     .unwrap();
-    assert_eq!(e.kind, ErrorKind::NoFlagBits);
+    assert_eq!(*e.kind(), WriteErrorKind::NoFlagBits);
 }
 
 /// Found by the roundtrip fuzz target: text with a NUL was written, then read as
@@ -366,13 +368,19 @@ fn logged_text_readers_would_drop_is_refused_and_the_rest_reads_back() {
     let mut data = w.start_data().unwrap();
     let before = data.position();
     let e = data.log(LogLevel::Info, 1, "ok\0no").unwrap_err();
-    assert_eq!(e.kind, ErrorKind::ControlCharacter { at: 2, byte: 0 });
-    assert_eq!(e.offset, before);
+    assert_eq!(
+        *e.kind(),
+        WriteErrorKind::ControlCharacter { at: 2, byte: 0 }
+    );
+    assert_eq!(e.position(), Some(before));
     assert!(e.to_string().contains("0x00 at byte 2"), "{e}");
     let e = data
         .tagged_log(LogLevel::Info, 3, 1, "bell\x07")
         .unwrap_err();
-    assert_eq!(e.kind, ErrorKind::ControlCharacter { at: 4, byte: 7 });
+    assert_eq!(
+        *e.kind(),
+        WriteErrorKind::ControlCharacter { at: 4, byte: 7 }
+    );
     assert_eq!(data.position(), before, "nothing written");
     let kept = "tab\t, lines\r\n, \x1b[1mescape\x1b[0m, ünïcode";
     data.log(LogLevel::Warning, 2, kept).unwrap();

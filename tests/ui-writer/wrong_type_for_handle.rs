@@ -1,4 +1,4 @@
-use ulog_core::typed::ULogMessage;
+use ulog_core::ULogMessage;
 use ulog_core::LogWriter;
 
 #[derive(ULogMessage)]

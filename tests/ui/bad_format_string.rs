@@ -1,3 +1,3 @@
-ulog_core::typed::ulog_structs!("vehicle_attitude:uint64_t timestamp;float[x] q;");
+ulog_core::ulog_structs!("vehicle_attitude:uint64_t timestamp;float[x] q;");
 
 fn main() {}

@@ -1,4 +1,4 @@
-use ulog_core::typed::ULogMessage;
+use ulog_core::ULogMessage;
 
 #[derive(ULogMessage)]
 struct M {
@@ -7,6 +7,6 @@ struct M {
     _padding1: [f32; 2],
 }
 
-ulog_core::typed::ulog_structs!("n:uint8_t a;n2 _padding0;", "n2:uint8_t b;");
+ulog_core::ulog_structs!("n:uint8_t a;n2 _padding0;", "n2:uint8_t b;");
 
 fn main() {}

@@ -1,3 +1,3 @@
-ulog_core::typed::ulog_structs!("a:uint8_t v;b[2] x;", "b:a y;");
+ulog_core::ulog_structs!("a:uint8_t v;b[2] x;", "b:a y;");
 
 fn main() {}

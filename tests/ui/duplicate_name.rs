@@ -1,4 +1,4 @@
-use ulog_core::typed::ULogMessage;
+use ulog_core::ULogMessage;
 
 #[derive(ULogMessage)]
 struct M {

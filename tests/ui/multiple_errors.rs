@@ -1,4 +1,4 @@
-use ulog_core::typed::ULogMessage;
+use ulog_core::ULogMessage;
 
 #[derive(ULogMessage)]
 #[ulog(name = "bad name", name = "again")]
@@ -12,6 +12,6 @@ struct M {
     d: u8,
 }
 
-ulog_core::typed::ulog_structs!("m:uint8_t a;float[0] b;int8_t a;", "x:nope y;");
+ulog_core::ulog_structs!("m:uint8_t a;float[0] b;int8_t a;", "x:nope y;");
 
 fn main() {}

@@ -1,4 +1,4 @@
-use ulog_core::typed::{CharArray, ULogMessage};
+use ulog_core::{typed::CharArray, ULogMessage};
 
 struct Plain {
     x: u8,

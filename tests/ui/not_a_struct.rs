@@ -1,4 +1,4 @@
-use ulog_core::typed::{ULogMessage, ULogTopics};
+use ulog_core::{ULogMessage, ULogTopics};
 
 #[derive(ULogMessage)]
 struct Tuple(u8, u16);

@@ -5,7 +5,8 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value as Json};
-use ulog_core::{FindingKind, ULog, Unwrapper};
+use ulog_core::read::{FindingKind, Unwrapper};
+use ulog_core::ULog;
 
 use crate::describe::kind_name;
 use crate::failure::{stdout_err, Failure, Status};

@@ -8,7 +8,7 @@ use crate::input;
 
 /// Write Rust bindings for every message format of a log: one struct per format with
 /// its `ULogMessage` implementation (nested types, arrays and padding included), and
-/// `visit_bindings`. This is the code `ulog_core::typed::ulog_module!` generates at
+/// `visit_bindings`. This is the code `ulog_core::ulog_module!` generates at
 /// compile time, for projects that want it checked in; use it as a module
 /// (`mod bindings;`) of a crate that depends on `ulog-core`. The source is laid out by
 /// prettyplease; put `#[rustfmt::skip]` on the `mod` to keep it identical to what this
@@ -27,6 +27,11 @@ pub struct Args {
     /// renamed or re-exported).
     #[arg(long = "crate", value_name = "PATH", default_value = "::ulog_core")]
     krate: String,
+    /// Bindings that payloads can be borrowed as, without a copy (`TypedRows::views`):
+    /// `#[repr(C)]` structs of little-endian fields, without the trailing padding that
+    /// PX4 does not write (as `ulog_module!(views; …)`).
+    #[arg(long)]
+    views: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
@@ -38,7 +43,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .file
         .file_name()
         .map_or_else(|| name.clone(), |n| n.to_string_lossy().into_owned());
-    let generated = ulog_codegen::bindings_for_log(file.bytes(), &shown, Some(&args.krate))
+    let options = ulog_codegen::Options {
+        krate: Some(&args.krate),
+        views: args.views,
+    };
+    let generated = ulog_codegen::bindings_for_log(file.bytes(), &shown, &options)
         .map_err(|e| Failure::about(&name, e))?;
     if let Some(first) = generated.problems.first() {
         return Err(Failure::about(

@@ -4,11 +4,10 @@ use std::fs::File;
 use std::io::{self, Write};
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Mutex;
 
 use ulog_core::format::BasicType;
-use ulog_core::{FieldShape, Topic};
+use ulog_core::read::FieldShape;
+use ulog_core::{LookupError, Topic};
 
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
@@ -90,7 +89,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                     "ulog: {name}: topic `{}` ({}) cannot be decoded, skipped: {}",
                     topic.name(),
                     topic.multi_id(),
-                    input::error_text(&e)
+                    e
                 );
                 continue;
             }
@@ -111,52 +110,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     };
     let rows: usize = jobs.iter().map(|j| j.topic.len()).sum();
     let progress = Progress::new(rows as u64, "csv rows");
-    let threads = threads.min(jobs.len()).max(1);
     // The largest topics first, so that the threads end together.
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by_key(|&i| core::cmp::Reverse(jobs[i].cost()));
-    let next = AtomicUsize::new(0);
-    let failed = AtomicBool::new(false);
-    let failures: Mutex<Vec<(usize, Failure)>> = Mutex::new(Vec::new());
-    let work = || {
-        let mut buf = Vec::new();
-        while !failed.load(Ordering::Relaxed) {
-            let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
-                break;
-            };
-            let job = &jobs[i];
-            progress.message(job.topic.name().to_owned());
-            let written = write_topic(
-                log.data(),
-                job,
-                args.delimiter.as_bytes(),
-                range,
-                &mut buf,
-                &progress,
-            );
-            if let Err(e) = written {
-                let failure = Failure::unreadable(&job.path, io_text(&e));
-                failures
-                    .lock()
-                    .expect("no thread panicked holding it")
-                    .push((i, failure));
-                failed.store(true, Ordering::Relaxed);
-            }
-        }
-    };
-    std::thread::scope(|s| {
-        for _ in 1..threads {
-            s.spawn(work);
-        }
-        work();
+    let costs: Vec<u64> = jobs.iter().map(|j| j.cost() as u64).collect();
+    let written = ulog_core::parallel::largest_first(&costs, threads, |i| {
+        thread_local!(static BUF: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) });
+        let job = &jobs[i];
+        progress.message(job.topic.name().to_owned());
+        BUF.with_borrow_mut(|buf| {
+            write_topic(job, args.delimiter.as_bytes(), range, buf, &progress)
+                .map_err(|e| Failure::unreadable(&job.path, io_text(&e)))
+        })
     });
     drop(progress);
-    let failures = failures
-        .into_inner()
-        .expect("no thread panicked holding it");
     // The error of the first file in name order, as when they are written one by one.
-    match failures.into_iter().min_by_key(|(i, _)| *i) {
-        Some((_, failure)) => Err(failure),
+    match written.into_iter().flatten().find_map(Result::err) {
+        Some(failure) => Err(failure),
         None => Ok(()),
     }
 }
@@ -232,9 +200,9 @@ struct Column {
     cell: Cell,
 }
 
-fn columns(topic: &Topic<'_, '_>) -> ulog_core::Result<Vec<Column>> {
+fn columns(topic: &Topic<'_, '_>) -> Result<Vec<Column>, LookupError> {
     let mut cols: Vec<Column> = topic
-        .columns()?
+        .fields()?
         .into_iter()
         .map(|f| {
             let off = f.offset();
@@ -301,9 +269,8 @@ const BUF_LEN: usize = 1 << 20;
 const AHEAD: usize = 16;
 
 /// Writes the CSV file of `job`, formatting the rows in place in `buf` (a worker's
-/// buffer, reused from topic to topic). `data` is what the log was parsed from.
+/// buffer, reused from topic to topic).
 fn write_topic(
-    data: &[u8],
     job: &Job<'_, '_>,
     delim: &[u8],
     range: TimeRange,
@@ -348,16 +315,7 @@ fn write_topic(
     let mut pending = 0;
     // The messages of a topic are scattered over the file: each row would wait for
     // memory (and an address translation) if it were not fetched early.
-    let mut ahead = topic
-        .message_offsets()
-        .slice(rows.clone())
-        .iter()
-        .skip(AHEAD);
-    let span = BEFORE_PAYLOAD + topic.payload(0).map_or(0, |p| p.len());
-    for p in topic.payloads_in(rows.clone()) {
-        if let Some(o) = ahead.next() {
-            prefetch(data, o as usize, span);
-        }
+    for p in topic.payloads_in(rows.clone()).prefetch(AHEAD) {
         if pos > limit {
             file.write_all(&buf[..pos])?;
             pos = 0;
@@ -371,36 +329,6 @@ fn write_topic(
     file.write_all(&buf[..pos])?;
     progress.inc(pending + (topic.len() - rows.len()) as u64);
     Ok(())
-}
-
-/// The bytes of a data message before its payload: the header and the msg_id.
-const BEFORE_PAYLOAD: usize = 5;
-
-/// Asks the CPU to fetch `data[at..at + len]` into its cache, without waiting for it;
-/// nothing on other architectures.
-#[inline(always)]
-fn prefetch(data: &[u8], at: usize, len: usize) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let end = (at + len).min(data.len());
-        let base = data.as_ptr();
-        let mut a = at;
-        while a < end {
-            prefetch_line(base.wrapping_add(a));
-            a += 64;
-        }
-        prefetch_line(base.wrapping_add(end.saturating_sub(1)));
-
-        #[inline(always)]
-        fn prefetch_line(p: *const u8) {
-            // SAFETY: a prefetch is only a hint: it reads nothing and never faults, even
-            // for an address outside the mapping (none is: `p` is within `data`).
-            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast()) }
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (data, at, len);
 }
 
 /// The float last printed in a column and where: when the next row holds the same bits

@@ -2,7 +2,8 @@
 //! the commands.
 
 use serde_json::Value as Json;
-use ulog_core::{Corruption, Finding, FindingKind, Value};
+use ulog_core::read::{Corruption, FindingKind};
+use ulog_core::{Finding, Value};
 
 /// A message type byte as text: `'D'`, or `0x07` when not printable.
 pub fn type_name(t: u8) -> String {

@@ -5,12 +5,14 @@ use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use serde_json::{json, Map, Value as Json};
-use ulog_core::{FieldReader, Finding, KeyValue, Message, MessageAt, ULog};
+use ulog_core::read::{KeyValue, MessageAt};
+use ulog_core::{FieldReader, Finding, Message, ULog};
 
 use crate::describe::{kind_name, type_name, value_json};
 use crate::failure::{stdout_err, Failure};
 use crate::input;
 use crate::progress::Progress;
+use crate::pyfmt::value_text;
 
 const JSON_KEYS: &str = "\
 JSON lines (--json): one object per message, in file order, each with
@@ -73,7 +75,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let by_offset: HashMap<u64, usize> = log
         .topics()
         .enumerate()
-        .map(|(i, t)| (t.subscription_offset(), i))
+        .map(|(i, t)| (t.subscription().offset(), i))
         .collect();
     let mut decoders: Vec<Option<Decoder>> = (0..log.topics().count()).map(|_| None).collect();
     let mut current: HashMap<u16, usize> = HashMap::new();
@@ -154,7 +156,7 @@ fn decoder<'d>(
         Decoder {
             name: t.name().to_owned(),
             multi_id: t.multi_id(),
-            columns: t.columns().map_err(|e| e.kind.to_string()),
+            columns: t.fields().map_err(|e| e.to_string()),
             sizes,
         }
     }))
@@ -167,9 +169,7 @@ fn kv_text(line: &mut String, kv: &KeyValue<'_>) {
         ulog_core::Value::Str(s) => {
             let _ = write!(line, "{:?}", s.to_string_lossy());
         }
-        v => {
-            let _ = write!(line, "{v}");
-        }
+        v => line.push_str(&value_text(&v)),
     }
 }
 
@@ -239,7 +239,7 @@ fn message_text(
                         for c in cols {
                             match c.read(payload) {
                                 Some(v) => {
-                                    let _ = write!(line, " {}={v}", c.path());
+                                    let _ = write!(line, " {}={}", c.path(), value_text(&v));
                                 }
                                 None => {
                                     let _ = write!(line, " {}=?", c.path());

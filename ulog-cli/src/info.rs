@@ -5,7 +5,8 @@ use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use serde_json::{json, Map, Value as Json};
-use ulog_core::{FindingKind, KeyValue, ULog, Value};
+use ulog_core::read::{FindingKind, KeyValue};
+use ulog_core::{ULog, Value};
 
 use crate::describe::{kind_name, type_name, value_json};
 use crate::failure::{stdout_err, Failure};

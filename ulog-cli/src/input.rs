@@ -3,18 +3,19 @@
 
 use std::path::Path;
 
-use ulog_core::{Error, ErrorKind, MappedFile, ULog};
+use ulog_core::read::ReadErrorKind;
+use ulog_core::{LogFile, ReadError, ULog};
 
 use crate::failure::{io_text, Failure, Status};
 
 /// Maps the file at `path`; a missing, unreadable or directory path is a failure.
-pub fn open(path: &Path) -> Result<MappedFile, Failure> {
+pub fn open(path: &Path) -> Result<LogFile, Failure> {
     let shown = path.display();
     let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
     if meta.is_dir() {
         return Err(Failure::unreadable(&shown, "is a directory"));
     }
-    MappedFile::open(path).map_err(|e| Failure::unreadable(&shown, error_text(&e)))
+    LogFile::open(path).map_err(|e| Failure::unreadable(&shown, error_text(&e)))
 }
 
 /// Parses `bytes`; a file that is not a ULog log, or one the spec says to refuse, is a
@@ -23,16 +24,14 @@ pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
     ULog::parse(bytes).map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
 }
 
-/// A library error as one line: the kind, and the byte offset where one applies.
-pub fn error_text(e: &Error) -> String {
-    match &e.kind {
-        // The library's I/O text already names the file; the caller names it too.
-        ErrorKind::Io(s) => match s.rsplit_once(": ") {
-            Some((_, tail)) => tail.to_owned(),
-            None => s.clone(),
-        },
-        kind if e.offset == 0 => kind.to_string(),
-        kind => format!("{kind} (at byte {})", e.offset),
+/// A read error as one line without the file (the caller names it): what, and the
+/// byte offset where there is a place that the text does not already say.
+pub fn error_text(e: &ReadError) -> String {
+    match (e.kind(), e.position()) {
+        (ReadErrorKind::Io(_) | ReadErrorKind::UnknownIncompatFlags { .. }, Some(at)) => {
+            format!("{} (at byte {at})", e.what())
+        }
+        _ => e.what(),
     }
 }
 
@@ -43,7 +42,7 @@ pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&
     for w in &wanted {
         if log.topic_instances(w).is_empty() {
             let text = match log.topic(w, 0) {
-                Err(e) => error_text(&e),
+                Err(e) => e.to_string(),
                 Ok(_) => format!("no topic `{w}` in the log"),
             };
             return Err(Failure::unknown_name(name, text));

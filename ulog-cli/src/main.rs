@@ -11,6 +11,7 @@ mod failure;
 mod info;
 mod input;
 mod messages;
+mod numfmt;
 mod params;
 mod parquet;
 mod plot;

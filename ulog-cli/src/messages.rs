@@ -3,7 +3,8 @@
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
-use ulog_core::{LogLevel, LogMessage, Value};
+use ulog_core::read::{LogLevel, LoggedString};
+use ulog_core::Value;
 
 use crate::failure::{stdout_err, Failure};
 use crate::input;
@@ -29,7 +30,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
-    let mut msgs: Vec<&LogMessage<'_>> = log
+    let mut msgs: Vec<&LoggedString<'_>> = log
         .logged_messages()
         .iter()
         .filter(|m| !(args.no_tagged && m.tag.is_some()))
@@ -46,7 +47,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// `H:MM:SS.mmm LEVEL: text`.
-pub fn line(m: &LogMessage<'_>) -> String {
+pub fn line(m: &LoggedString<'_>) -> String {
     let total_ms = m.timestamp / 1000;
     let s = total_ms / 1000;
     format!(

@@ -5,11 +5,10 @@ use std::collections::BTreeSet;
 use std::io::{self, Write};
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-use ulog_core::export::{self, Compression, Options};
-use ulog_core::ErrorKind;
+use ulog_core::export::{self, Compression, ExportErrorKind, Options};
+use ulog_core::LookupError;
 
 use crate::failure::{io_text, stdout_err, Failure, Status};
 use crate::input;
@@ -107,36 +106,31 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let total: u64 = jobs.iter().map(|j| j.size).sum();
     let progress = Progress::bytes(total, "parquet");
     let available = input::threads(args.jobs);
-    let threads = available.min(jobs.len()).max(1);
     let options = Options {
         threads: if jobs.len() == 1 { available } else { 1 },
         ..options
     };
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Result<Done, Failure>>>> =
-        Mutex::new((0..jobs.len()).map(|_| None).collect());
     let stdout = Mutex::new(io::stdout());
-    std::thread::scope(|s| {
-        for _ in 0..threads {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                let Some(job) = jobs.get(i) else { break };
-                let result = convert(job, &options, strict, &progress, &stdout);
-                if let Err(Failure::Message(_, m)) = &result {
-                    if !strict {
-                        progress.suspend(|| {
-                            let _ = writeln!(io::stderr(), "ulog: {m}");
-                        });
-                    }
-                }
-                results.lock().expect("no thread panicked holding it")[i] = Some(result);
-            });
+    // Largest logs first, so that the threads end together; a log that fails does not
+    // stop the others (its failure is its result).
+    let sizes: Vec<u64> = jobs.iter().map(|j| j.size).collect();
+    let results = ulog_core::parallel::largest_first(&sizes, available, |i| {
+        let result = convert(&jobs[i], &options, strict, &progress, &stdout);
+        if let Err(Failure::Message(_, m)) = &result {
+            if !strict {
+                progress.suspend(|| {
+                    let _ = writeln!(io::stderr(), "ulog: {m}");
+                });
+            }
         }
+        Ok::<_, core::convert::Infallible>(result)
     });
     drop(progress);
     io::stdout().flush().map_err(stdout_err)?;
-
-    let results = results.into_inner().expect("no thread panicked holding it");
+    let results: Vec<Option<Result<Done, Failure>>> = results
+        .into_iter()
+        .map(|r| r.map(|r| r.unwrap_or_else(|e| match e {})))
+        .collect();
     let mut found = BTreeSet::new();
     let mut suggestion = None;
     let mut failures = Vec::new();
@@ -276,11 +270,8 @@ fn convert(
                 .cloned()
                 .partition(|n| !log.topic_instances(n).is_empty());
             done.suggestion = missing.iter().find_map(|n| match log.topic(n, 0) {
-                Err(e) => match e.kind {
-                    ErrorKind::TopicNotFound { suggestion, .. } => suggestion,
-                    _ => None,
-                },
-                Ok(_) => None,
+                Err(LookupError::Topic(t)) => t.closest.into_iter().next(),
+                _ => None,
             });
             if !strict {
                 if found.is_empty() {
@@ -305,11 +296,11 @@ fn convert(
             advanced += bytes;
             progress.inc(bytes);
         })
-        .map_err(|e| match e.kind {
-            ErrorKind::TopicNotFound { .. } => Failure::unknown_name(&name, input::error_text(&e)),
+        .map_err(|e| match e.kind() {
+            ExportErrorKind::Lookup(LookupError::Topic(_)) => Failure::unknown_name(&name, &e),
             // The text names the file that could not be written.
-            ErrorKind::Io(text) => Failure::Message(Status::Io, text),
-            _ => Failure::about(&name, input::error_text(&e)),
+            ExportErrorKind::Io(_) => Failure::Message(Status::Io, e.to_string()),
+            _ => Failure::about(&name, &e),
         })?;
         let rows: usize = export.files.iter().map(|w| w.rows).sum();
         progress.suspend(|| -> Result<(), Failure> {
@@ -318,9 +309,7 @@ fn convert(
                 let _ = writeln!(
                     err,
                     "ulog: {name}: topic `{}` ({}) cannot be exported, skipped: {}",
-                    s.topic,
-                    s.multi_id,
-                    input::error_text(&s.error)
+                    s.topic, s.multi_id, s.error
                 );
             }
             let mut out = stdout.lock().expect("no thread panicked holding it");

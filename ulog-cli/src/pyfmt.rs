@@ -3,8 +3,9 @@
 
 use core::fmt::Write as _;
 
-pub use ulog_core::numfmt::{
-    format_i64, format_numpy_f32, format_numpy_f64, format_u64, write_numpy_f64, NUM_LEN,
+pub use crate::numfmt::{
+    format_i64, format_numpy_f32, format_numpy_f64, format_u64, write_numpy_f32, write_numpy_f64,
+    NUM_LEN,
 };
 use ulog_core::Value;
 
@@ -30,6 +31,41 @@ pub fn py_repr(v: &Value<'_>) -> String {
         Value::Array(a) => py_bytes_repr(a.as_bytes()),
         Value::Bytes(b) => py_bytes_repr(b),
         other => other.to_string(),
+    }
+}
+
+/// A value as pyulog's tables print it: integers in decimal, floats in numpy's
+/// shortest form, booleans as `1`/`0` (pyulog keeps them as `int8`), a `char` as its
+/// signed byte, strings as (lossy) text, arrays as `[a, b]`, undecodable bytes in hex.
+pub fn value_text(v: &Value<'_>) -> String {
+    let mut out = Vec::new();
+    push_value(&mut out, v);
+    String::from_utf8(out).unwrap_or_default()
+}
+
+fn push_value(out: &mut Vec<u8>, v: &Value<'_>) {
+    match v {
+        Value::F32(f) => write_numpy_f32(out, *f),
+        Value::F64(f) => write_numpy_f64(out, *f),
+        Value::Bool(b) => out.push(if *b { b'1' } else { b'0' }),
+        Value::Char(c) => out.extend_from_slice((*c as i8).to_string().as_bytes()),
+        Value::Str(s) => out.extend_from_slice(s.to_string_lossy().as_bytes()),
+        Value::Array(a) => {
+            out.push(b'[');
+            for (i, x) in a.iter().enumerate() {
+                if i > 0 {
+                    out.extend_from_slice(b", ");
+                }
+                push_value(out, &x);
+            }
+            out.push(b']');
+        }
+        Value::Bytes(b) => {
+            for x in *b {
+                out.extend_from_slice(format!("{x:02x}").as_bytes());
+            }
+        }
+        other => out.extend_from_slice(other.to_string().as_bytes()),
     }
 }
 
@@ -110,5 +146,9 @@ mod tests {
         assert_eq!(py_repr(&Value::Bool(true)), "True");
         assert_eq!(py_str(&Value::I32(-3)), "-3");
         assert_eq!(py_str(&Value::F32(12.0)), "12.0");
+        assert_eq!(value_text(&Value::F32(4e6)), "4e+06");
+        assert_eq!(value_text(&Value::Bool(true)), "1");
+        assert_eq!(value_text(&Value::Char(b'A')), "65");
+        assert_eq!(value_text(&Value::I64(-3)), "-3");
     }
 }

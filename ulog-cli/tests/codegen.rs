@@ -6,7 +6,8 @@ mod common;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use ulog_core::typed::{ulog_module, ULogMessage};
+use ulog_core::typed::{WireField, Writable};
+use ulog_core::{ulog_module, ULogMessage};
 use ulog_core::{LogWriter, ULog};
 
 /// The checked-in output of `ulog codegen examples/data/reference.ulg` (not reformatted,
@@ -39,7 +40,7 @@ fn checked_in_bindings_are_current() {
 /// the macro's `M`: same name, same layout, same values.
 fn round_trip<G, M>(rows: &[G])
 where
-    G: ULogMessage + core::fmt::Debug,
+    G: ULogMessage + WireField<Writability = Writable> + core::fmt::Debug,
     M: ULogMessage + core::fmt::Debug,
 {
     assert_eq!(G::NAME, M::NAME);
@@ -134,7 +135,8 @@ fn writes_to_a_file_and_names_the_runtime_crate() {
     ]);
     assert!(printed.is_empty());
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.contains("::my_ulog::typed::ULogMessage"));
+    assert!(text.contains("::my_ulog::ULogMessage"));
+    assert!(text.contains("::my_ulog::typed::WireField"));
     assert!(!text.contains("::ulog_core::"));
 }
 
@@ -184,4 +186,33 @@ fn refused_and_missing_files() {
     assert_eq!(out.status.code(), Some(4));
     let out = common::ulog(["codegen".as_ref(), dir.join("none.ulg").as_os_str()]);
     assert_eq!(out.status.code(), Some(3));
+}
+
+/// Formats that cannot be laid out are listed (in the header and on stderr) and not
+/// counted among the bound ones; the others are bound.
+#[test]
+fn formats_that_cannot_be_bound_are_listed_and_not_counted() {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    b.format("ok:uint64_t timestamp;");
+    b.format("broken:uint64_t timestamp;missing m;");
+    b.format("uses_broken:uint64_t timestamp;broken[2] b;");
+    let path = common::scratch("codegen_skipped").join("skipped.ulg");
+    std::fs::write(&path, b.bytes()).unwrap();
+    let out = common::ulog(["codegen".as_ref(), path.as_os_str()]);
+    assert!(out.status.success(), "{out:?}");
+    let source = String::from_utf8(out.stdout).unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        source.starts_with("// Bindings for the 1 format of `skipped.ulg`"),
+        "{source}"
+    );
+    assert!(source.contains("pub struct Ok "), "{source}");
+    for name in ["broken", "uses_broken"] {
+        let line = format!("// Skipped: format `{name}`:");
+        assert!(source.contains(&line), "{name}: {source}");
+        assert!(
+            stderr.contains(&format!("skipped format `{name}`")),
+            "{stderr}"
+        );
+    }
 }

@@ -17,7 +17,8 @@ use ulog_core::export::arrow_array::types::{
 use ulog_core::export::arrow_array::{Array, ArrayRef, RecordBatch};
 use ulog_core::export::arrow_schema::DataType;
 use ulog_core::export::parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
-use ulog_core::{FieldReader, FieldShape, Topic, ULog, Value};
+use ulog_core::read::FieldShape;
+use ulog_core::{FieldReader, Topic, ULog, Value};
 
 fn file_set(dir: &Path) -> BTreeSet<String> {
     std::fs::read_dir(dir)
@@ -171,7 +172,7 @@ fn check_topic(stem: &str, topic: &Topic<'_, '_>, path: &Path, flatten: bool) ->
             ts.data_type()
         );
     }
-    let leaves = topic.columns().expect("the topic was exported");
+    let leaves = topic.fields().expect("the topic was exported");
     let payloads: Vec<&[u8]> = topic.payloads().collect();
     let mut row = 0;
     for batch in builder.build().expect("reader") {

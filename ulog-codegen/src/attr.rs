@@ -1,8 +1,10 @@
 //! The `#[ulog(…)]` attributes, parsed into typed forms that keep their spans.
 //!
 //! Container: `name = "…"` (the ULog message name), `crate = "…"` (the runtime crate's
-//! path). Field: `name = "…"` (the ULog field name), `alias = "…"` (repeatable: names
-//! in older logs), `char` (a `[u8; N]` that is a `char[N]` string).
+//! path), `view` (the binding can be borrowed from payloads). Field: `name = "…"` (the
+//! ULog field name), `alias = "…"` (repeatable: names in older logs), `char` (a
+//! `[u8; N]` that is a `char[N]` string), `default` or `default = expr` (the value when
+//! a log lacks the field).
 
 use proc_macro2::Span;
 use syn::spanned::Spanned;
@@ -38,6 +40,7 @@ impl<T> Once<T> {
 pub(crate) struct ContainerAttrs {
     pub name: Once<LitStr>,
     pub krate: Once<syn::Path>,
+    pub view: Once<Span>,
 }
 
 /// Attributes of a field.
@@ -45,6 +48,8 @@ pub(crate) struct FieldAttrs {
     pub name: Once<LitStr>,
     pub aliases: Vec<LitStr>,
     pub char_: Once<Span>,
+    /// `default` (`None` inside: the type's `Default`) or `default = expr`.
+    pub default: Once<(Span, Option<syn::Expr>)>,
 }
 
 fn ulog_attrs(attrs: &[Attribute]) -> impl Iterator<Item = &Attribute> {
@@ -60,6 +65,7 @@ pub(crate) fn container(
     let mut out = ContainerAttrs {
         name: Once::new("name"),
         krate: Once::new("crate"),
+        view: Once::new("view"),
     };
     for attr in ulog_attrs(attrs) {
         let result = attr.parse_nested_meta(|meta| {
@@ -72,9 +78,11 @@ pub(crate) fn container(
                     Ok(path) => out.krate.set(path, meta.path.span(), errors),
                     Err(_) => errors.at(lit.span(), "`crate` must be a path, like \"::ulog_core\""),
                 }
+            } else if meta.path.is_ident("view") && allow_name {
+                out.view.set(meta.path.span(), meta.path.span(), errors);
             } else {
                 let expected = if allow_name {
-                    "`name` or `crate`"
+                    "`name`, `crate` or `view`"
                 } else {
                     "`crate`"
                 };
@@ -95,6 +103,7 @@ pub(crate) fn field(attrs: &[Attribute], errors: &mut Errors) -> FieldAttrs {
         name: Once::new("name"),
         aliases: Vec::new(),
         char_: Once::new("char"),
+        default: Once::new("default"),
     };
     for attr in ulog_attrs(attrs) {
         let result = attr.parse_nested_meta(|meta| {
@@ -105,8 +114,18 @@ pub(crate) fn field(attrs: &[Attribute], errors: &mut Errors) -> FieldAttrs {
                 out.aliases.push(meta.value()?.parse()?);
             } else if meta.path.is_ident("char") {
                 out.char_.set(meta.path.span(), meta.path.span(), errors);
+            } else if meta.path.is_ident("default") {
+                let value = if meta.input.peek(syn::Token![=]) {
+                    Some(meta.value()?.parse::<syn::Expr>()?)
+                } else {
+                    None
+                };
+                out.default
+                    .set((meta.path.span(), value), meta.path.span(), errors);
             } else {
-                return Err(meta.error("unknown attribute, expected `name`, `alias` or `char`"));
+                return Err(
+                    meta.error("unknown attribute, expected `name`, `alias`, `char` or `default`")
+                );
             }
             Ok(())
         });

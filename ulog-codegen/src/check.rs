@@ -7,7 +7,7 @@ use proc_macro2::Span;
 use ulog_format::{Format, FormatErrorKind};
 
 use crate::errors::Errors;
-use crate::ir::Message;
+use crate::ir::{Absent, Message};
 
 fn describe(kind: &FormatErrorKind, what: &str) -> String {
     match kind {
@@ -71,6 +71,13 @@ pub(crate) fn check(message: &Message, name_span: Span, errors: &mut Errors) {
         }
         if ulog_format::is_padding_name(&f.name) && !f.aliases.is_empty() {
             errors.at(f.span, "a padding field cannot have aliases");
+        }
+        if let (Some(view), Absent::None) = (message.view, &f.absent) {
+            let _ = view;
+            errors.at(
+                f.span,
+                "a binding borrowed from payloads (`view`) cannot have `Option` fields: an absent field has no bytes to borrow",
+            );
         }
     }
 }

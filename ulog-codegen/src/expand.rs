@@ -1,172 +1,399 @@
-//! Code generation for a binding: its wire struct and its `WireField` and
-//! `ULogMessage` implementations, inside `const _: () = { … };`, with absolute paths.
+//! Code generation for a binding: its `WireField` and `ULogMessage` implementations,
+//! inside `const _: () = { … };`, with absolute paths.
+//!
+//! A binding's wire image is a byte array of its size, read and written field by field
+//! at fixed offsets. Where the layout is known when the code is generated (bindings of
+//! format strings and logs), the offsets are literals; for a derived struct they are
+//! constants the compiler computes from the field types. Either way no type is
+//! generated beside the binding, and the table of fields (`FieldDef`s) is built once.
 
-use proc_macro2::{Ident, Span, TokenStream};
-use quote::{quote, quote_spanned};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote, quote_spanned};
 
-use crate::ir::{basic_variant, Message, Shape};
+use crate::ir::{basic_variant, Absent, Message, MessageField, Shape};
 
-/// The name of the wire struct, private to the `const _` block.
-fn wire_ident() -> Ident {
-    Ident::new("__UlogWire", Span::call_site())
+/// What one field's type contributes to the implementations.
+struct FieldCode {
+    /// Its wire size.
+    size: TokenStream,
+    /// The presence slots of a nested binding inside it.
+    nested_slots: TokenStream,
+    /// Its `FieldKind` and array length.
+    kind: TokenStream,
+    count: TokenStream,
+    /// Whether its type is its wire image, and whether its values can be written
+    /// (`None`: a basic type, always).
+    is_wire: TokenStream,
+    writability: Option<TokenStream>,
+    /// A compile-time check of its type, with its span.
+    assert: Option<TokenStream>,
+}
+
+fn field_code(m: &Message, f: &MessageField) -> FieldCode {
+    let typed = m.paths.typed();
+    let private = m.paths.private();
+    let wf = quote!(#typed::WireField);
+    let none = quote!(::core::option::Option::None);
+    match &f.shape {
+        Shape::Scalar(ty) => FieldCode {
+            size: quote!(#private::wire_size::<#ty>()),
+            nested_slots: quote!(<#ty as #wf>::OPTIONAL),
+            kind: quote!(<#ty as #wf>::KIND),
+            count: quote!(<#ty as #wf>::COUNT),
+            is_wire: quote!(<#ty as #wf>::IS_WIRE),
+            writability: Some(quote!(<#ty as #wf>::Writability)),
+            assert: Some(quote_spanned!(f.span=> #private::assert_field::<#ty>();)),
+        },
+        Shape::Array { elem, len } => FieldCode {
+            size: quote!((#private::wire_size::<#elem>() * (#len))),
+            nested_slots: quote!(<#elem as #wf>::OPTIONAL),
+            kind: quote!(<#elem as #wf>::KIND),
+            count: quote!(::core::option::Option::Some(#len)),
+            is_wire: quote!(<#elem as #wf>::IS_WIRE),
+            writability: Some(quote!(<#elem as #wf>::Writability)),
+            assert: Some(quote_spanned!(f.span=> #private::assert_array_element::<#elem>();)),
+        },
+        Shape::CharBytes { len } => FieldCode {
+            size: match len {
+                Some(n) => quote!((#n)),
+                None => quote!(1usize),
+            },
+            nested_slots: quote!(0usize),
+            kind: quote!(#typed::FieldKind::Basic(#private::BasicType::Char)),
+            count: match len {
+                Some(n) => quote!(::core::option::Option::Some(#n)),
+                None => none,
+            },
+            is_wire: quote!(true),
+            writability: None,
+            assert: None,
+        },
+        Shape::Padding {
+            ty, count, bytes, ..
+        } => {
+            let variant = basic_variant(*ty);
+            FieldCode {
+                size: quote!((#bytes)),
+                nested_slots: quote!(0usize),
+                kind: quote!(#typed::FieldKind::Basic(#private::BasicType::#variant)),
+                count: match count {
+                    Some(c) => quote!(::core::option::Option::Some(#c)),
+                    None => none,
+                },
+                is_wire: quote!(true),
+                writability: None,
+                assert: None,
+            }
+        }
+    }
+}
+
+/// Reads field `f` from `wire` at `offset`, its nested slots from `present`.
+fn read_expr(
+    m: &Message,
+    f: &MessageField,
+    offset: &TokenStream,
+    present: &TokenStream,
+) -> TokenStream {
+    let private = m.paths.private();
+    let typed = m.paths.typed();
+    match &f.shape {
+        Shape::Scalar(ty) => quote!(#private::read::<#ty>(wire, #offset, #present)),
+        // The length is the field's: the compiler infers it.
+        Shape::Array { .. } => quote!(#private::read_array(wire, #offset, #present)),
+        Shape::CharBytes { len: Some(_) } => {
+            quote!(#private::read_array(wire, #offset, #typed::Present::ALL))
+        }
+        Shape::CharBytes { len: None } => {
+            quote!(#private::read::<u8>(wire, #offset, #typed::Present::ALL))
+        }
+        Shape::Padding {
+            bytes, array: true, ..
+        } => quote!([0u8; #bytes]),
+        Shape::Padding { array: false, .. } => quote!(0u8),
+    }
+}
+
+/// Writes `value` (an expression of a reference to the field's value) at `offset` of
+/// `wire`.
+fn write_stmt(
+    m: &Message,
+    f: &MessageField,
+    offset: &TokenStream,
+    value: &TokenStream,
+) -> TokenStream {
+    let private = m.paths.private();
+    match &f.shape {
+        Shape::Scalar(ty) => quote!(#private::write::<#ty>(&mut wire, #offset, #value);),
+        Shape::Array { elem, .. } => {
+            quote!(#private::write_array::<#elem>(&mut wire, #offset, #value);)
+        }
+        Shape::CharBytes { len: Some(_) } => {
+            quote!(#private::write_array::<u8>(&mut wire, #offset, #value);)
+        }
+        Shape::CharBytes { len: None } => {
+            quote!(#private::write::<u8>(&mut wire, #offset, #value);)
+        }
+        // Padding is zeros, as the image starts.
+        Shape::Padding { .. } => TokenStream::new(),
+    }
+}
+
+/// Visits `value` (a reference to the field's value) as field `f`.
+fn visit_stmt(m: &Message, f: &MessageField, value: &TokenStream) -> TokenStream {
+    let private = m.paths.private();
+    let fname = &f.name;
+    match &f.shape {
+        Shape::Scalar(ty) => quote!(#private::visit_field::<#ty>(#value, path, base, #fname, f);),
+        Shape::Array { elem, .. } => {
+            quote!(#private::visit_array::<#elem>(#value, path, base, #fname, f);)
+        }
+        Shape::CharBytes { len: Some(_) } => {
+            quote!(#private::visit_chars(#value, false, path, base, #fname, f);)
+        }
+        Shape::CharBytes { len: None } => quote!(
+            #private::visit_chars(::core::slice::from_ref(#value), true, path, base, #fname, f);
+        ),
+        Shape::Padding { .. } => TokenStream::new(),
+    }
 }
 
 /// The implementations of a checked binding.
 pub(crate) fn expand(m: &Message) -> TokenStream {
     let typed = m.paths.typed();
     let private = m.paths.private();
-    let zerocopy = quote!(#private::zerocopy);
-    let zerocopy_text = m.paths.zerocopy_text();
-    let ident = &m.ident;
-    let wire = wire_ident();
-    let name = &m.name;
+    let message_trait = m.paths.message_trait();
     let wf = quote!(#typed::WireField);
-    let vis = &m.vis;
+    let ident = &m.ident;
+    let name = &m.name;
+    let rust_name = ident.to_string();
+    let named_after_struct = m.named_after_struct;
+    let all = quote!(#typed::Present::ALL);
 
-    let mut wire_fields = Vec::new();
-    let mut from_wire = Vec::new();
-    let mut to_wire = Vec::new();
+    let mut consts = Vec::new();
+    let mut inits = Vec::new();
+    let mut writes = Vec::new();
     let mut defs = Vec::new();
     let mut is_wire = Vec::new();
+    // Writable unless a field is an `Option`, here or in a nested binding.
+    let has_options = m.fields.iter().any(|f| matches!(f.absent, Absent::None));
+    let mut writability = if has_options {
+        quote!(#typed::HasOptionFields)
+    } else {
+        quote!(#typed::Writable)
+    };
     let mut asserts = Vec::new();
     let mut visits = Vec::new();
-    for f in &m.fields {
+    // Offsets and presence slots: literals where the layout is known, else constants.
+    let mut offset = quote!(0usize);
+    let mut slot = quote!(0usize);
+    let mut has_slots = false;
+    for (k, f) in m.fields.iter().enumerate() {
+        let code = field_code(m, f);
         let fi = &f.ident;
         let fname = &f.name;
         let aliases = &f.aliases;
-        let (wire_ty, from, to, kind, len, wire_ok) = match &f.shape {
-            Shape::Scalar(ty) => {
-                visits.push(quote!(#private::visit_field(&self.#fi, path, base, #fname, f);));
-                asserts.push(quote_spanned!(f.span=> #private::assert_field::<#ty>();));
-                (
-                    quote!(<#ty as #wf>::Wire),
-                    quote!(<#ty as #wf>::from_wire(&wire.#fi)),
-                    quote!(<#ty as #wf>::to_wire(&self.#fi)),
-                    quote!(<#ty as #wf>::KIND),
-                    quote!(<#ty as #wf>::COUNT),
-                    quote!(<#ty as #wf>::IS_WIRE),
-                )
+        let (offset_k, next_offset) = match &m.known {
+            Some(known) => {
+                let o = known.offsets[k];
+                (quote!(#o), quote!())
             }
-            Shape::Array { elem, len } => {
-                visits.push(quote!(#private::visit_array(&self.#fi, path, base, #fname, f);));
-                asserts.push(quote_spanned!(f.span=> #private::assert_array_element::<#elem>();));
-                (
-                    quote!([<#elem as #wf>::Wire; #len]),
-                    quote!(::core::array::from_fn(|i| <#elem as #wf>::from_wire(&wire.#fi[i]))),
-                    quote!(::core::array::from_fn(|i| <#elem as #wf>::to_wire(&self.#fi[i]))),
-                    quote!(<#elem as #wf>::KIND),
-                    quote!(::core::option::Option::Some(#len)),
-                    quote!(<#elem as #wf>::IS_WIRE),
-                )
-            }
-            Shape::CharBytes { len } => {
-                visits.push(match len {
-                    Some(_) => {
-                        quote!(#private::visit_chars(&self.#fi, false, path, base, #fname, f);)
-                    }
-                    None => quote!(
-                        #private::visit_chars(&[self.#fi], true, path, base, #fname, f);
-                    ),
-                });
-                let (ty, count) = match len {
-                    Some(len) => (
-                        quote!([u8; #len]),
-                        quote!(::core::option::Option::Some(#len)),
-                    ),
-                    None => (quote!(u8), quote!(::core::option::Option::None)),
-                };
-                (
-                    ty,
-                    quote!(wire.#fi),
-                    quote!(self.#fi),
-                    quote!(#typed::FieldKind::Basic(#private::BasicType::Char)),
-                    count,
-                    quote!(true),
-                )
-            }
-            Shape::Padding {
-                ty,
-                count,
-                bytes,
-                array,
-            } => {
-                let variant = basic_variant(*ty);
-                let count = match count {
-                    Some(c) => quote!(::core::option::Option::Some(#c)),
-                    None => quote!(::core::option::Option::None),
-                };
-                let (wire_ty, zero) = if *array {
-                    (quote!([u8; #bytes]), quote!([0u8; #bytes]))
-                } else {
-                    (quote!(u8), quote!(0u8))
-                };
-                (
-                    wire_ty,
-                    zero.clone(),
-                    zero,
-                    quote!(#typed::FieldKind::Basic(#private::BasicType::#variant)),
-                    count,
-                    quote!(true),
-                )
+            None => {
+                let o = format_ident!("__O{k}");
+                let size = &code.size;
+                consts.push(quote!(const #o: usize = #offset;));
+                (quote!(#o), quote!(#o + #size))
             }
         };
-        wire_fields.push(quote!(#fi: #wire_ty));
-        from_wire.push(quote!(#fi: #from));
-        to_wire.push(quote!(#fi: #to));
-        defs.push(quote!(#typed::FieldDef::new(#fname, &[#(#aliases),*], #kind, #len)));
-        is_wire.push(quote!(
-            #wire_ok && ::core::mem::offset_of!(Self, #fi) == ::core::mem::offset_of!(#wire, #fi)
-        ));
+        if m.known.is_none() {
+            offset = next_offset;
+        }
+        let own_slot = !matches!(f.absent, Absent::Required);
+        let nested = if m.known.is_some() {
+            // Bindings of formats and logs have no optional fields anywhere.
+            quote!(0usize)
+        } else {
+            code.nested_slots.clone()
+        };
+        let slot_k = if m.known.is_some() {
+            quote!(0usize)
+        } else {
+            let s = format_ident!("__S{k}");
+            consts.push(quote!(const #s: usize = #slot;));
+            let own = usize::from(own_slot);
+            slot = quote!(#s + #own + #nested);
+            has_slots = true;
+            quote!(#s)
+        };
+        let present = if m.known.is_some() {
+            all.clone()
+        } else if own_slot {
+            quote!(present.sub(#slot_k + 1, #nested))
+        } else {
+            quote!(present.sub(#slot_k, #nested))
+        };
+        let read = read_expr(m, f, &offset_k, &present);
+        inits.push(match &f.absent {
+            Absent::Required => quote!(#fi: #read),
+            Absent::None => quote!(#fi: if present.get(#slot_k) {
+                ::core::option::Option::Some(#read)
+            } else {
+                ::core::option::Option::None
+            }),
+            Absent::Default(expr) => {
+                let default = match expr {
+                    Some(e) => quote!(#e),
+                    None => quote!(::core::default::Default::default()),
+                };
+                quote!(#fi: if present.get(#slot_k) { #read } else { #default })
+            }
+        });
+        writes.push(match &f.absent {
+            Absent::None => {
+                let w = write_stmt(m, f, &offset_k, &quote!(value));
+                quote!(if let ::core::option::Option::Some(value) = &self.#fi { #w })
+            }
+            _ => write_stmt(m, f, &offset_k, &quote!(&self.#fi)),
+        });
+        visits.push(match &f.absent {
+            Absent::None => {
+                let v = visit_stmt(m, f, &quote!(value));
+                quote!(if let ::core::option::Option::Some(value) = &self.#fi { #v })
+            }
+            _ => visit_stmt(m, f, &quote!(&self.#fi)),
+        });
+        // A basic type known here is written out: the compiler has no trait to look
+        // through.
+        let (kind, count) = match f.basic {
+            Some((b, len)) => {
+                let v = basic_variant(b);
+                let count = match len {
+                    Some(n) => quote!(::core::option::Option::Some(#n)),
+                    None => quote!(::core::option::Option::None),
+                };
+                (
+                    quote!(#typed::FieldKind::Basic(#private::BasicType::#v)),
+                    count,
+                )
+            }
+            None => (code.kind.clone(), code.count.clone()),
+        };
+        let def = quote!(#typed::FieldDef::new(#fname, &[#(#aliases),*], #kind, #count));
+        defs.push(match &f.absent {
+            Absent::Required => def,
+            Absent::None => quote!(#def.when_absent(#typed::Absent::None)),
+            Absent::Default(_) => quote!(#def.when_absent(#typed::Absent::Default)),
+        });
+        if m.known.is_none() || m.view.is_some() {
+            let wire_ok = match f.absent {
+                Absent::None => quote!(false),
+                _ => code.is_wire.clone(),
+            };
+            is_wire.push(quote!(#wire_ok && ::core::mem::offset_of!(Self, #fi) == #offset_k));
+        }
+        if let (None, false, Some(w)) = (&m.known, has_options, &code.writability) {
+            writability = quote!(<#writability as #typed::Writability>::And<#w>);
+        }
+        if m.known.is_none() {
+            asserts.extend(code.assert);
+        }
     }
-    let n = defs.len();
-    let visit_body = if visits.is_empty() {
-        quote!(let _ = (path, f);)
+    let asserts = (!asserts.is_empty()).then(|| quote!(const _: () = { #(#asserts)* };));
+    let size = match &m.known {
+        Some(known) => {
+            let s = known.size;
+            quote!(#s)
+        }
+        None => {
+            consts.push(quote!(const __SIZE: usize = #offset;));
+            quote!(__SIZE)
+        }
+    };
+    let optional = if has_slots {
+        quote!(#slot)
     } else {
-        quote!(let base = path.len(); #(#visits)*)
+        quote!(0usize)
+    };
+    let is_wire = match (&m.known, m.view) {
+        // Bindings of formats and logs hold Rust's own types (`u32`, `f32`): never
+        // their wire image, unless generated as views.
+        (Some(_), None) => quote!(false),
+        _ => quote!(
+            ::core::mem::size_of::<Self>() == #size
+                && ::core::mem::align_of::<Self>() == 1
+                #(&& #is_wire)*
+        ),
+    };
+
+    // A derived struct may hold optional fields, here or in a nested binding: its
+    // visitor goes field by field. Bindings of formats and logs use the default,
+    // which reads the wire image as the reader reads a payload.
+    let visit_override = m.known.is_none().then(|| {
+        let body = if visits.is_empty() {
+            quote!(let _ = (path, f);)
+        } else {
+            quote!(let base = path.len(); #(#visits)*)
+        };
+        quote! {
+            fn visit_fields_at(
+                &self,
+                path: &mut ::std::string::String,
+                f: &mut dyn ::core::ops::FnMut(&str, #private::Value<'_>),
+            ) {
+                #body
+            }
+        }
+    });
+    let view = m.view.map(|span| {
+        let message = format!(
+            "`{rust_name}` is not its wire image, so it cannot be a view: its fields must be `u8`, `i8`, `CharArray<N>`, `ulog_core::typed::le` types, arrays of these or nested view bindings, laid out in declaration order (add `#[repr(C)]`)"
+        );
+        quote_spanned! {span=>
+            const _: () = ::core::assert!(<#ident as #wf>::IS_WIRE, #message);
+            // SAFETY: the assertion above makes it a compile error unless `IS_WIRE`,
+            // computed from every field's own `IS_WIRE` and offset, holds.
+            #[automatically_derived]
+            unsafe impl #typed::WireImage for #ident {}
+        }
+    });
+    let n = defs.len();
+    let wire_mut = if writes.iter().all(TokenStream::is_empty) {
+        quote!(wire)
+    } else {
+        quote!(mut wire)
     };
     quote! {
         #[allow(non_snake_case, clippy::all)]
         const _: () = {
-            #[repr(C)]
-            #[derive(
-                #zerocopy::FromBytes,
-                #zerocopy::IntoBytes,
-                #zerocopy::KnownLayout,
-                #zerocopy::Immutable,
-                #zerocopy::Unaligned
-            )]
-            #[zerocopy(crate = #zerocopy_text)]
-            #[doc(hidden)]
-            #vis struct #wire {
-                #(#wire_fields,)*
-            }
+            #(#consts)*
 
-            const _: () = {
-                #(#asserts)*
-            };
+            #asserts
 
             #[automatically_derived]
             impl #wf for #ident {
-                type Wire = #wire;
+                type Wire = [u8; #size];
                 const KIND: #typed::FieldKind =
-                    #typed::FieldKind::Nested(<Self as #typed::ULogMessage>::schema);
-                const IS_WIRE: bool = ::core::mem::size_of::<Self>() == ::core::mem::size_of::<#wire>()
-                    && ::core::mem::align_of::<Self>() == 1
-                    #(&& #is_wire)*;
+                    #typed::FieldKind::Nested(<Self as #message_trait>::schema);
+                const IS_WIRE: bool = #is_wire;
+                const OPTIONAL: usize = #optional;
+                type Writability = #writability;
                 #[inline]
-                fn from_wire(wire: &#wire) -> Self {
-                    Self { #(#from_wire,)* }
+                fn from_wire(wire: &[u8; #size], present: #typed::Present<'_>) -> Self {
+                    let _ = present;
+                    Self { #(#inits,)* }
                 }
                 #[inline]
-                fn to_wire(&self) -> #wire {
-                    #wire { #(#to_wire,)* }
+                fn to_wire(&self) -> [u8; #size] {
+                    let #wire_mut = [0u8; #size];
+                    #(#writes)*
+                    wire
                 }
-                fn visit_values(
+                fn visit(
                     &self,
                     path: &mut ::std::string::String,
                     f: &mut dyn ::core::ops::FnMut(&str, #private::Value<'_>),
                 ) {
-                    #visit_body
+                    <Self as #message_trait>::visit_fields_at(self, path, f)
                 }
             }
 
@@ -174,14 +401,20 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
             impl #typed::ArrayElement for #ident {}
 
             #[automatically_derived]
-            impl #typed::ULogMessage for #ident {
+            impl #message_trait for #ident {
                 const NAME: &'static str = #name;
                 fn schema() -> &'static #typed::Schema {
                     static FIELDS: [#typed::FieldDef; #n] = [#(#defs),*];
                     static SCHEMA: #private::OnceLock<#typed::Schema> = #private::OnceLock::new();
-                    SCHEMA.get_or_init(|| #typed::Schema::build(#name, &FIELDS))
+                    SCHEMA.get_or_init(|| {
+                        #typed::Schema::build(#name, &FIELDS)
+                            .with_rust_name(#rust_name, #named_after_struct)
+                    })
                 }
+                #visit_override
             }
+
+            #view
         };
     }
 }
@@ -190,30 +423,28 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
 /// type reports no further errors.
 pub(crate) fn stub(m: &Message) -> TokenStream {
     let typed = m.paths.typed();
+    let message_trait = m.paths.message_trait();
     let ident = &m.ident;
     let name = &m.name;
     quote! {
         const _: () = {
             #[automatically_derived]
             impl #typed::WireField for #ident {
-                type Wire = ();
+                type Wire = [u8; 0];
+                type Writability = #typed::Writable;
                 const KIND: #typed::FieldKind =
-                    #typed::FieldKind::Nested(<Self as #typed::ULogMessage>::schema);
-                fn from_wire(_: &()) -> Self {
+                    #typed::FieldKind::Nested(<Self as #message_trait>::schema);
+                fn from_wire(_: &[u8; 0], _: #typed::Present<'_>) -> Self {
                     ::core::unreachable!()
                 }
-                fn to_wire(&self) {}
-                fn visit_values(
-                    &self,
-                    _: &mut ::std::string::String,
-                    _: &mut dyn ::core::ops::FnMut(&str, #typed::__private::Value<'_>),
-                ) {
+                fn to_wire(&self) -> [u8; 0] {
+                    []
                 }
             }
             #[automatically_derived]
             impl #typed::ArrayElement for #ident {}
             #[automatically_derived]
-            impl #typed::ULogMessage for #ident {
+            impl #message_trait for #ident {
                 const NAME: &'static str = #name;
                 fn schema() -> &'static #typed::Schema {
                     ::core::unreachable!()

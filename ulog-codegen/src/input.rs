@@ -10,7 +10,6 @@ use crate::errors::Errors;
 /// A struct to bind.
 pub(crate) struct Input {
     pub ident: Ident,
-    pub vis: syn::Visibility,
     pub attrs: ContainerAttrs,
     pub fields: Vec<InputField>,
 }
@@ -65,7 +64,6 @@ pub(crate) fn parse(input: &DeriveInput, errors: &mut Errors) -> Input {
     }
     Input {
         ident: input.ident.clone(),
-        vis: input.vis.clone(),
         attrs,
         fields,
     }

@@ -10,14 +10,29 @@ use ulog_format::BasicType;
 pub(crate) struct Message {
     /// The Rust type.
     pub ident: Ident,
-    /// Its visibility (the wire struct gets the same).
-    pub vis: syn::Visibility,
     /// The ULog message name.
     pub name: String,
+    /// Whether the name was derived from the struct's name (no `name` attribute).
+    pub named_after_struct: bool,
     /// The runtime crate's path.
     pub paths: Paths,
     /// The fields, in order.
     pub fields: Vec<MessageField>,
+    /// Where the layout is known when the code is generated (bindings of format
+    /// strings and logs): the offsets are then literals, and no field has nested
+    /// optional fields. `None` for derived structs, whose field types are known only
+    /// to the compiler.
+    pub known: Option<KnownLayout>,
+    /// `#[ulog(view)]`: the binding can be borrowed from payloads.
+    pub view: Option<Span>,
+}
+
+/// A layout known when the code is generated.
+pub(crate) struct KnownLayout {
+    /// Each field's offset.
+    pub offsets: Vec<usize>,
+    /// The size.
+    pub size: usize,
 }
 
 /// One field of a binding.
@@ -32,6 +47,21 @@ pub(crate) struct MessageField {
     pub aliases: Vec<String>,
     /// How it maps to bytes.
     pub shape: Shape,
+    /// What it takes when a log lacks it.
+    pub absent: Absent,
+    /// Its ULog basic type and array length, when it is known to be one when the code
+    /// is generated (bindings of formats and logs).
+    pub basic: Option<(BasicType, Option<usize>)>,
+}
+
+/// What a field takes when a log's format lacks it.
+pub(crate) enum Absent {
+    /// Nothing: the format does not fit.
+    Required,
+    /// `None`: the field is `Option<shape>`.
+    None,
+    /// `Default::default()`, or the expression given.
+    Default(Option<syn::Expr>),
 }
 
 /// How a field maps to bytes.
@@ -70,6 +100,18 @@ impl Paths {
         &self.krate
     }
 
+    /// `ulog_core::ULogMessage`
+    pub(crate) fn message_trait(&self) -> TokenStream {
+        let k = &self.krate;
+        quote!(#k::ULogMessage)
+    }
+
+    /// `ulog_core::ULogTopics`
+    pub(crate) fn topics_trait(&self) -> TokenStream {
+        let k = &self.krate;
+        quote!(#k::ULogTopics)
+    }
+
     /// `ulog_core::typed`
     pub(crate) fn typed(&self) -> TokenStream {
         let k = &self.krate;
@@ -80,14 +122,6 @@ impl Paths {
     pub(crate) fn private(&self) -> TokenStream {
         let k = &self.krate;
         quote!(#k::typed::__private)
-    }
-
-    /// The crate path as text, for `#[zerocopy(crate = "…")]`.
-    pub(crate) fn zerocopy_text(&self) -> String {
-        let k = &self.krate;
-        quote!(#k::typed::__private::zerocopy)
-            .to_string()
-            .replace(' ', "")
     }
 }
 
@@ -105,6 +139,24 @@ pub(crate) fn rust_basic(ty: BasicType) -> TokenStream {
         BasicType::Float => quote!(f32),
         BasicType::Double => quote!(f64),
         BasicType::Bool => quote!(bool),
+    }
+}
+
+/// The type of a basic ULog type in a binding borrowed from payloads: alignment 1,
+/// little endian (`char` is handled apart).
+pub(crate) fn wire_basic(ty: BasicType, typed: &TokenStream) -> TokenStream {
+    match ty {
+        BasicType::Int8 => quote!(i8),
+        BasicType::UInt8 | BasicType::Char => quote!(u8),
+        BasicType::Int16 => quote!(#typed::le::I16),
+        BasicType::UInt16 => quote!(#typed::le::U16),
+        BasicType::Int32 => quote!(#typed::le::I32),
+        BasicType::UInt32 => quote!(#typed::le::U32),
+        BasicType::Int64 => quote!(#typed::le::I64),
+        BasicType::UInt64 => quote!(#typed::le::U64),
+        BasicType::Float => quote!(#typed::le::F32),
+        BasicType::Double => quote!(#typed::le::F64),
+        BasicType::Bool => quote!(#typed::ByteBool),
     }
 }
 

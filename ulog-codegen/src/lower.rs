@@ -8,7 +8,7 @@ use ulog_format::BasicType;
 
 use crate::errors::Errors;
 use crate::input::{Input, InputField};
-use crate::ir::{Message, MessageField, Paths, Shape};
+use crate::ir::{Absent, Message, MessageField, Paths, Shape};
 use crate::names;
 
 /// Lowers a parsed struct. Fields whose type cannot be bound are left out (their
@@ -16,10 +16,12 @@ use crate::names;
 pub(crate) fn lower(input: Input, errors: &mut Errors) -> (Message, Option<Span>) {
     let name_lit = input.attrs.name.get();
     let name_span = name_lit.as_ref().map(|l| l.span());
+    let named_after_struct = name_lit.is_none();
     let name = name_lit
         .map(|l| l.value())
         .unwrap_or_else(|| names::snake_case(&input.ident.to_string()));
     let paths = Paths::new(input.attrs.krate.get());
+    let view = input.attrs.view.get();
     let fields = input
         .fields
         .into_iter()
@@ -28,10 +30,12 @@ pub(crate) fn lower(input: Input, errors: &mut Errors) -> (Message, Option<Span>
     (
         Message {
             ident: input.ident,
-            vis: input.vis,
             name,
+            named_after_struct,
             paths,
             fields,
+            known: None,
+            view,
         },
         name_span,
     )
@@ -48,12 +52,39 @@ fn lower_field(f: InputField, errors: &mut Errors) -> Option<MessageField> {
         .unwrap_or_else(|| names::unraw(&f.ident));
     let aliases = f.attrs.aliases.iter().map(|a| a.value()).collect();
     let char_span = f.attrs.char_.get();
-    let shape = if ulog_format::is_padding_name(&name) {
-        padding_shape(&f.ty, errors)
+    let default = f.attrs.default.get();
+    let padding = ulog_format::is_padding_name(&name);
+    // `Option<T>`: the field's shape is `T`'s, and it may be absent.
+    let (ty, option) = match option_inner(&f.ty) {
+        Some(inner) if !padding => (inner, true),
+        _ => (&f.ty, false),
+    };
+    let absent = match (option, default) {
+        (true, Some((span, _))) => {
+            errors.at(
+                span,
+                "an `Option` field is already optional: `None` when the log lacks it; `default` is for fields that are not `Option`s",
+            );
+            Absent::None
+        }
+        (true, None) => Absent::None,
+        (false, Some((span, _))) if padding => {
+            errors.at(span, "a padding field cannot have a default");
+            Absent::Required
+        }
+        (false, Some((_, expr))) => Absent::Default(expr),
+        (false, None) => Absent::Required,
+    };
+    let shape = if padding {
+        if option_inner(&f.ty).is_some() {
+            errors.at(f.ty.span(), "a padding field cannot be an `Option`");
+            return None;
+        }
+        padding_shape(ty, errors)
     } else if let Some(char_span) = char_span {
-        char_shape(&f.ty, char_span, errors)
+        char_shape(ty, char_span, errors)
     } else {
-        value_shape(&f.ty, errors)
+        value_shape(ty, errors)
     }?;
     Some(MessageField {
         ident: f.ident,
@@ -61,7 +92,27 @@ fn lower_field(f: InputField, errors: &mut Errors) -> Option<MessageField> {
         span,
         aliases,
         shape,
+        absent,
+        basic: None,
     })
+}
+
+/// `T` of a field type `Option<T>` (also `core::option::Option<T>`).
+fn option_inner(ty: &Type) -> Option<&Type> {
+    let Type::Path(p) = strip(ty) else {
+        return None;
+    };
+    let last = p.path.segments.last()?;
+    if p.qself.is_some() || last.ident != "Option" {
+        return None;
+    }
+    match &last.arguments {
+        syn::PathArguments::AngleBracketed(args) if args.args.len() == 1 => match &args.args[0] {
+            syn::GenericArgument::Type(t) => Some(t),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 fn strip(ty: &Type) -> &Type {
@@ -113,7 +164,7 @@ fn char_shape(ty: &Type, char_span: Span, errors: &mut Errors) -> Option<Shape> 
     }
 }
 
-const SUPPORTED: &str = "ULog fields are u8..u64, i8..i64, f32, f64, bool, `CharArray<N>`, fixed arrays of these, or nested messages";
+const SUPPORTED: &str = "ULog fields are u8..u64, i8..i64, f32, f64, bool, `CharArray<N>`, fixed arrays of these, nested messages, or `Option`s of these";
 
 /// Path types that are never fields, with a hint.
 fn unsupported_path(ident: &str) -> Option<&'static str> {
@@ -123,9 +174,8 @@ fn unsupported_path(ident: &str) -> Option<&'static str> {
         "char" => {
             "a ULog `char` is one byte: use `CharArray<N>`, or `u8`/`[u8; N]` with `#[ulog(char)]`"
         }
-        "String" | "str" | "Vec" | "Box" | "Option" | "Cow" | "Rc" | "Arc" => {
-            "ULog fields have a fixed size"
-        }
+        "Option" => "an `Option` holds a whole field: it cannot be an array element or hold another `Option`",
+        "String" | "str" | "Vec" | "Box" | "Cow" | "Rc" | "Arc" => "ULog fields have a fixed size",
         _ => return None,
     })
 }

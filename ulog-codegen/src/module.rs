@@ -10,10 +10,10 @@ use ulog_format::definitions;
 
 use crate::errors::Errors;
 use crate::ir::Paths;
-use crate::structs::{emit_structs, parse_crate, Source};
+use crate::structs::{emit_structs, parse_options, MacroOptions, Source};
 
 struct ModuleInput {
-    krate: Option<syn::Path>,
+    options: MacroOptions,
     vis: Visibility,
     ident: Ident,
     path: LitStr,
@@ -21,7 +21,7 @@ struct ModuleInput {
 
 impl Parse for ModuleInput {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let krate = parse_crate(input)?;
+        let options = parse_options(input)?;
         let vis = input.parse()?;
         input.parse::<Token![mod]>()?;
         let ident = input.parse()?;
@@ -31,7 +31,7 @@ impl Parse for ModuleInput {
             input.parse::<Token![;]>()?;
         }
         Ok(ModuleInput {
-            krate,
+            options,
             vis,
             ident,
             path,
@@ -60,7 +60,7 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
             .to_compile_error()
         }
     };
-    let bindings = match Bindings::new(&bytes, input.krate) {
+    let bindings = match Bindings::new(&bytes, input.options.krate, input.options.views) {
         Ok(b) => b,
         Err(e) => {
             return syn::Error::new(input.path.span(), format!("`{}`: {e}", input.path.value()))
@@ -71,8 +71,9 @@ pub(crate) fn from_log(tokens: TokenStream) -> TokenStream {
     let ident = &input.ident;
     let file_text = file.display().to_string();
     let doc = format!(
-        " Bindings for the {} formats of `{}`, generated at compile time.",
+        " Bindings for the {} format{} of `{}`, generated at compile time.",
         bindings.count,
+        if bindings.count == 1 { "" } else { "s" },
         input.path.value()
     );
     let skipped_doc = bindings.skipped.iter().map(|s| {
@@ -101,16 +102,16 @@ pub(crate) struct Bindings {
     /// Formats the macros cannot bind (two fields with one Rust name); empty when all
     /// went well.
     pub errors: Errors,
-    /// Formats bound.
+    /// Formats bound (given a struct with its implementations).
     pub count: usize,
     /// Formats left out, with why.
     pub skipped: Vec<String>,
 }
 
 impl Bindings {
-    /// Reads the formats of the log `bytes` and emits their bindings, naming the
-    /// runtime crate `krate` (default `::ulog_core`).
-    pub fn new(bytes: &[u8], krate: Option<syn::Path>) -> Result<Bindings, String> {
+    /// Reads the formats of the log `bytes` and emits their bindings (borrowed from
+    /// payloads, with `views`), naming the runtime crate `krate` (default `::ulog_core`).
+    pub fn new(bytes: &[u8], krate: Option<syn::Path>, views: bool) -> Result<Bindings, String> {
         let found = definitions::formats_in(bytes).map_err(|e| e.to_string())?;
         let mut sources: Vec<Source> = Vec::new();
         let mut skipped: Vec<String> = Vec::new();
@@ -132,13 +133,29 @@ impl Bindings {
         let paths = Paths::new(krate);
         let mut errors = Errors::default();
         let mut bound = Vec::new();
-        let structs = emit_structs(&sources, &paths, &mut errors, true, &mut bound);
+        let structs = emit_structs(
+            &sources,
+            &paths,
+            views,
+            &mut errors,
+            Some(&mut skipped),
+            &mut bound,
+        );
         let typed = paths.typed();
         let visit_body = if bound.is_empty() {
             quote!(let _ = visitor;)
         } else {
             quote!(#(visitor.visit::<#bound>();)*)
         };
+        let visit_views = views.then(|| {
+            quote! {
+                /// Calls `visitor` with each binding of the module, in the log's order:
+                /// each one payloads can be borrowed as.
+                pub fn visit_views<V: #typed::ViewVisitor + ?::core::marker::Sized>(visitor: &mut V) {
+                    #visit_body
+                }
+            }
+        });
         let items = quote! {
             #structs
 
@@ -146,12 +163,52 @@ impl Bindings {
             pub fn visit_bindings<V: #typed::BindingVisitor + ?::core::marker::Sized>(visitor: &mut V) {
                 #visit_body
             }
+
+            #visit_views
         };
         Ok(Bindings {
             items,
             errors,
-            count: sources.len(),
+            count: bound.len(),
             skipped,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Bindings;
+
+    /// A log of a header and these format texts.
+    fn log_with_formats(formats: &[&str]) -> Vec<u8> {
+        let mut log = ulog_format::definitions::MAGIC.to_vec();
+        log.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 0]);
+        for text in formats {
+            log.extend_from_slice(&(text.len() as u16).to_le_bytes());
+            log.push(b'F');
+            log.extend_from_slice(text.as_bytes());
+        }
+        log
+    }
+
+    #[test]
+    fn formats_that_cannot_be_laid_out_are_listed_as_skipped_not_counted() {
+        let log = log_with_formats(&[
+            "ok:uint64_t timestamp;",
+            "broken:uint64_t timestamp;missing m;",
+            "uses_broken:broken[2] b;",
+            "bad text",
+        ]);
+        let b = Bindings::new(&log, None, false).unwrap();
+        assert_eq!(b.count, 1, "only `ok` is bound");
+        assert_eq!(b.skipped.len(), 3, "{:?}", b.skipped);
+        assert!(
+            b.skipped[0].starts_with("format at offset"),
+            "{:?}",
+            b.skipped
+        );
+        assert!(b.skipped[1].contains("`broken`") && b.skipped[1].contains("missing"));
+        assert!(b.skipped[2].contains("`uses_broken`"));
+        assert!(b.errors.is_empty());
     }
 }

@@ -47,6 +47,30 @@ fn derive_with_nesting_padding_and_attributes() {
 }
 
 #[test]
+fn derive_with_optional_fields_and_a_view() {
+    let optional: syn::DeriveInput = syn::parse_quote! {
+        struct GpsFix {
+            timestamp: u64,
+            #[ulog(alias = "lat")]
+            latitude: Option<i32>,
+            latitude_deg: Option<f64>,
+            #[ulog(default)]
+            satellites_used: u8,
+            #[ulog(default = 99.0)]
+            eph: f32,
+            nested: Option<[Inner; 2]>,
+        }
+    };
+    check("derive_optional", crate::structs::derive_message(&optional));
+    let view: syn::DeriveInput = syn::parse_quote! {
+        #[ulog(name = "vehicle_attitude", view)]
+        #[repr(C)]
+        struct Attitude { timestamp: le::U64, q: [le::F32; 4], reset: u8 }
+    };
+    check("derive_view", crate::structs::derive_message(&view));
+}
+
+#[test]
 fn derive_topics() {
     let input: syn::DeriveInput = syn::parse_quote! {
         enum Topics { Attitude(VehicleAttitude), Esc(EscStatus) }
@@ -72,7 +96,7 @@ fn errors_come_all_at_once_with_stand_ins() {
     let text = crate::structs::derive_message(&input).to_string();
     assert_eq!(text.matches("compile_error").count(), 4, "{text}");
     assert!(
-        text.contains("impl :: ulog_core :: typed :: ULogMessage for Bad"),
+        text.contains("impl :: ulog_core :: ULogMessage for Bad"),
         "{text}"
     );
 }

@@ -15,7 +15,7 @@ use ulog_format::{Format, FormatError, LayoutErrorKind, Limits, Resolver, TypeNa
 
 use crate::errors::Errors;
 use crate::expand;
-use crate::ir::{rust_basic, Message, MessageField, Paths, Shape};
+use crate::ir::{rust_basic, wire_basic, Absent, KnownLayout, Message, MessageField, Paths, Shape};
 use crate::{check, input, lower, names};
 
 /// `#[derive(ULogMessage)]`: parse → lower → check → expand. With errors, the errors
@@ -41,29 +41,53 @@ pub(crate) fn derive_message(derive: &DeriveInput) -> TokenStream {
     }
 }
 
-/// The options before the format strings: `crate = path;`.
-pub(crate) fn parse_crate(input: ParseStream) -> syn::Result<Option<syn::Path>> {
-    if input.peek(Token![crate]) && input.peek2(Token![=]) {
-        input.parse::<Token![crate]>()?;
-        input.parse::<Token![=]>()?;
-        let path = syn::Path::parse_mod_style(input)?;
-        input.parse::<Token![;]>()?;
-        return Ok(Some(path));
+/// The options of the function-like macros, before their input: `crate = path;` (the
+/// runtime crate's path) and `views;` (bindings borrowed from payloads), in any order.
+#[derive(Default)]
+pub(crate) struct MacroOptions {
+    pub krate: Option<syn::Path>,
+    pub views: bool,
+}
+
+pub(crate) fn parse_options(input: ParseStream) -> syn::Result<MacroOptions> {
+    let mut options = MacroOptions::default();
+    loop {
+        if input.peek(Token![crate]) && input.peek2(Token![=]) {
+            let at = input.parse::<Token![crate]>()?;
+            if options.krate.is_some() {
+                return Err(syn::Error::new(at.span, "`crate` is set twice"));
+            }
+            input.parse::<Token![=]>()?;
+            options.krate = Some(syn::Path::parse_mod_style(input)?);
+            input.parse::<Token![;]>()?;
+        } else if input.peek(syn::Ident) && input.peek2(Token![;]) {
+            let ident: Ident = input.fork().parse()?;
+            if ident != "views" {
+                return Err(syn::Error::new(
+                    ident.span(),
+                    "unknown option, expected `views;` or `crate = path;`",
+                ));
+            }
+            input.parse::<Ident>()?;
+            input.parse::<Token![;]>()?;
+            options.views = true;
+        } else {
+            return Ok(options);
+        }
     }
-    Ok(None)
 }
 
 struct StructsInput {
-    krate: Option<syn::Path>,
+    options: MacroOptions,
     texts: Vec<LitStr>,
 }
 
 impl Parse for StructsInput {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let krate = parse_crate(input)?;
+        let options = parse_options(input)?;
         let texts = Punctuated::<LitStr, Token![,]>::parse_terminated(input)?;
         Ok(StructsInput {
-            krate,
+            options,
             texts: texts.into_iter().collect(),
         })
     }
@@ -129,8 +153,9 @@ pub(crate) fn from_format_strings(tokens: TokenStream) -> TokenStream {
             }
         }
     }
-    let paths = Paths::new(input.krate);
-    let mut out = emit_structs(&sources, &paths, &mut errors, false, &mut Vec::new());
+    let paths = Paths::new(input.options.krate);
+    let views = input.options.views;
+    let mut out = emit_structs(&sources, &paths, views, &mut errors, None, &mut Vec::new());
     out.extend(errors.to_compile_errors());
     out
 }
@@ -170,27 +195,43 @@ pub(crate) fn struct_idents(sources: &[Source]) -> HashMap<String, Ident> {
 }
 
 /// Emits a struct and its implementations per source. Formats whose layout fails
-/// (unknown or circular nested types, too large) are reported, or skipped silently
-/// when `skip_bad` (a whole log's formats). The structs that got real (not stand-in)
-/// implementations are pushed to `bound`.
+/// (unknown or circular nested types, too large) are reported as errors, or, when
+/// `skipped` is given (a whole log's formats), left out and listed there with why.
+/// The structs that got real (not stand-in) implementations are pushed to `bound`.
+///
+/// With `views`, the structs are their payloads' images, to be borrowed from them:
+/// `#[repr(C)]`, fields of `zerocopy`'s little-endian types (`ByteBool` for `bool`),
+/// and no trailing padding (PX4 does not write it), except in formats nested in
+/// others.
 pub(crate) fn emit_structs(
     sources: &[Source],
     paths: &Paths,
+    views: bool,
     errors: &mut Errors,
-    skip_bad: bool,
+    mut skipped: Option<&mut Vec<String>>,
     bound: &mut Vec<Ident>,
 ) -> TokenStream {
     let formats: Vec<Format> = sources.iter().map(|s| s.format.clone()).collect();
     let idents = struct_idents(sources);
+    let nested_in_others: std::collections::HashSet<&str> = formats
+        .iter()
+        .flat_map(|f| f.fields.iter())
+        .filter_map(|fl| match &fl.ty {
+            TypeName::Nested(n) => Some(n.as_str()),
+            TypeName::Basic(_) => None,
+        })
+        .collect();
     let mut resolver = Resolver::new(Limits::default());
     let mut out = TokenStream::new();
     for s in sources {
         let f = &s.format;
         let mut ok = true;
-        let laid_out = resolver.resolve(&f.name, &formats).map(|_| ());
+        let laid_out = resolver.resolve(&f.name, &formats);
         if let Err(e) = laid_out.as_ref().map_err(Clone::clone) {
             ok = false;
-            if !skip_bad {
+            if let Some(skipped) = skipped.as_deref_mut() {
+                skipped.push(format!("format `{}`: {e}", f.name));
+            } else {
                 let (target, message) = match &e.kind {
                     LayoutErrorKind::UnknownType { name } => (
                         Some(name.clone()),
@@ -214,12 +255,20 @@ pub(crate) fn emit_structs(
                 }
             }
         }
-        if skip_bad && !ok {
+        if skipped.is_some() && !ok {
             continue;
         }
         let mut fields = Vec::new();
         let mut seen_idents: HashMap<String, ()> = HashMap::new();
-        for fl in &f.fields {
+        // A view of a topic leaves out the trailing padding (the fields up to the last
+        // value); a format nested in others keeps it, as it is inside their payloads.
+        let trim = views && !nested_in_others.contains(f.name.as_str());
+        let kept = match f.fields.iter().rposition(|fl| !fl.is_padding()) {
+            Some(last) if trim => last + 1,
+            None if trim => 0,
+            _ => f.fields.len(),
+        };
+        for fl in &f.fields[..kept] {
             let ident = names::field_ident(&fl.name, Span::call_site());
             if seen_idents.insert(ident.to_string(), ()).is_some() {
                 errors.push(s.error(
@@ -258,7 +307,12 @@ pub(crate) fn emit_structs(
                     None => Shape::CharBytes { len: None },
                 },
                 (TypeName::Basic(b), false) => {
-                    let ty: syn::Type = syn::parse2(rust_basic(*b)).expect("basic types are types");
+                    let ty = if views {
+                        wire_basic(*b, &paths.typed())
+                    } else {
+                        rust_basic(*b)
+                    };
+                    let ty: syn::Type = syn::parse2(ty).expect("basic types are types");
                     match len {
                         Some(len) => Shape::Array { elem: ty, len },
                         None => Shape::Scalar(ty),
@@ -285,17 +339,36 @@ pub(crate) fn emit_structs(
                 span: Span::call_site(),
                 aliases: Vec::new(),
                 shape,
+                absent: Absent::Required,
+                basic: match &fl.ty {
+                    TypeName::Basic(b) => Some((*b, fl.array_len)),
+                    TypeName::Nested(_) => None,
+                },
             });
         }
         let Some(ident) = idents.get(&f.name) else {
             continue;
         };
+        // The layout is known here: offsets are literals in the generated code.
+        let known = match &laid_out {
+            Ok(layout) if ok => Some(KnownLayout {
+                offsets: layout.fields().iter().map(|lf| lf.offset).collect(),
+                size: if trim {
+                    layout.min_size()
+                } else {
+                    layout.size()
+                },
+            }),
+            _ => None,
+        };
         let message = Message {
             ident: ident.clone(),
-            vis: syn::parse_quote!(pub),
             name: f.name.clone(),
+            named_after_struct: false,
             paths: Paths::new(Some(paths.krate().clone())),
             fields,
+            known,
+            view: views.then(Span::call_site),
         };
         out.extend(struct_definition(&message, &s.text, &f.to_string()));
         out.extend(if ok {
@@ -309,7 +382,7 @@ pub(crate) fn emit_structs(
 }
 
 fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
-    let typed = m.paths.typed();
+    let message_trait = m.paths.message_trait();
     let ident = &m.ident;
     let doc_name = format!(" The ULog message `{}`:", m.name);
     let doc_format = format!(" {canonical}");
@@ -333,6 +406,7 @@ fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
         quote!(#[doc = #doc] pub #fi: #ty)
     });
     let default_doc = format_ident!("default");
+    let repr = m.view.map(|_| quote!(#[repr(C)]));
     quote! {
         #[doc = #doc_name]
         #[doc = ""]
@@ -342,6 +416,7 @@ fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
         #given_note
         #[derive(::core::fmt::Debug, ::core::clone::Clone, ::core::marker::Copy, ::core::cmp::PartialEq)]
         #[allow(non_snake_case, non_camel_case_types)]
+        #repr
         pub struct #ident {
             #(#fields,)*
         }
@@ -350,7 +425,7 @@ fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
         impl ::core::default::Default for #ident {
             /// Every field zero.
             fn #default_doc() -> Self {
-                <Self as #typed::ULogMessage>::zeroed()
+                <Self as #message_trait>::zeroed()
             }
         }
     }

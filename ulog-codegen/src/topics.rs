@@ -51,11 +51,13 @@ pub(crate) fn derive(input: &DeriveInput) -> TokenStream {
     }
     let typed = paths.typed();
     let private = paths.private();
+    let message_trait = paths.message_trait();
+    let topics_trait = paths.topics_trait();
     let ident = &input.ident;
     let idx: Vec<usize> = (0..variants.len()).collect();
     let names = variants
         .iter()
-        .map(|(_, ty, _)| quote!(<#ty as #typed::ULogMessage>::NAME));
+        .map(|(_, ty, _)| quote!(<#ty as #message_trait>::NAME));
     let plans = variants.iter().zip(&idx).map(|((_, ty, _), i)| {
         quote!(#i => ::core::option::Option::Some(#typed::TopicPlan::new::<#ty>(#i, layout)))
     });
@@ -65,7 +67,7 @@ pub(crate) fn derive(input: &DeriveInput) -> TokenStream {
     quote! {
         const _: () = {
             #[automatically_derived]
-            impl #typed::ULogTopics for #ident {
+            impl #topics_trait for #ident {
                 const NAMES: &'static [&'static str] = &[#(#names),*];
                 fn plan(
                     variant: usize,

@@ -12,10 +12,21 @@ fn items_text(items: Vec<syn::Item>) -> String {
 
 #[test]
 fn codegen_source_equals_the_module_macro_expansion() {
-    let path = std::env::temp_dir().join(format!("ulog-codegen-{}.ulg", std::process::id()));
+    for views in [false, true] {
+        same_as_macro(views);
+    }
+}
+
+fn same_as_macro(views: bool) {
+    let path =
+        std::env::temp_dir().join(format!("ulog-codegen-{}-{views}.ulg", std::process::id()));
     std::fs::write(&path, ulog_core::testing::sample_log()).unwrap();
     let lit = path.display().to_string();
-    let expanded = ulog_codegen::ulog_module(quote!(pub mod sample = #lit;));
+    let expanded = if views {
+        ulog_codegen::ulog_module(quote!(views; pub mod sample = #lit;))
+    } else {
+        ulog_codegen::ulog_module(quote!(pub mod sample = #lit;))
+    };
     let _ = std::fs::remove_file(&path);
 
     let file: syn::File = syn::parse2(expanded).expect("expansion parses");
@@ -37,21 +48,27 @@ fn codegen_source_equals_the_module_macro_expansion() {
         .collect();
     assert!(from_macro.len() > 4);
 
+    let options = ulog_codegen::Options { krate: None, views };
     let generated =
-        ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "sample.ulg", None)
+        ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "sample.ulg", &options)
             .unwrap();
     let parsed: syn::File = syn::parse_str(&generated.source).expect("source parses");
     assert_eq!(items_text(parsed.items), items_text(from_macro));
+    assert_eq!(generated.source.contains("WireImage"), views);
     assert!(generated.skipped.is_empty());
     assert!(generated.problems.is_empty());
 }
 
 #[test]
 fn a_file_that_is_not_a_log_is_an_error() {
-    let e = ulog_codegen::bindings_for_log(b"hello", "x", None).unwrap_err();
+    let default = ulog_codegen::Options::default();
+    let e = ulog_codegen::bindings_for_log(b"hello", "x", &default).unwrap_err();
     assert!(!e.is_empty());
-    let e =
-        ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "x", Some("not a path"))
-            .unwrap_err();
+    let bad_path = ulog_codegen::Options {
+        krate: Some("not a path"),
+        views: false,
+    };
+    let e = ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "x", &bad_path)
+        .unwrap_err();
     assert!(e.contains("not a path"), "{e}");
 }

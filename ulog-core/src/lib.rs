@@ -1,78 +1,146 @@
-//! A spec-complete, typed, zero-copy reader of PX4 ULog flight logs.
+//! A spec-complete, typed, zero-copy reader and writer of PX4 ULog flight logs.
 //!
-//! - [`ULog::parse`] reads a whole log from bytes (a buffer, or a [`MappedFile`]) in one
-//!   pass: header, flag bits, formats, information, parameters, subscriptions with the
-//!   offsets of their data messages, logged strings, dropouts, appended data. Payloads
-//!   stay borrowed from the input.
-//! - [`Topic::field`] resolves a field path (`esc[3].esc_rpm`) once; reading it from
-//!   each payload is then a load at a fixed offset, giving a typed [`Value`].
-//! - [`Incremental`] and [`StreamReader`] yield messages as they complete, from chunks
-//!   or any `Read`, in bounded memory, with the same framing decisions.
-//! - Damage (truncation, corruption, unknown messages, size mismatches) never fails the
-//!   read: it becomes [`Finding`]s with byte offsets, and the data around it is kept.
-//!   What does fail (not a ULog file, unknown incompatibility flags) is an [`Error`]
-//!   with a matchable [`ErrorKind`] and the byte offset. The library never prints.
-//! - `export` (feature `parquet`) turns topics into Apache Arrow record batches and
-//!   writes them as Parquet files, one per topic instance, with a JSON metadata file.
+//! # One way per job
+//!
+//! | job | entry point |
+//! |---|---|
+//! | open a log | [`LogFile::open`] (a memory map) then [`LogFile::parse`]; [`ULog::parse`] over bytes |
+//! | read one topic typed | [`ULog::read`] (one instance), [`ULog::read_instances`] (each instance on its own) |
+//! | read several topics typed, in file or time order | [`scan_topics`] with a [`ULogTopics`] enum |
+//! | read every data message once, untyped | [`scan`] |
+//! | read any field by path | [`ULog::topic`], [`Topic::field`] |
+//! | every message of the log | [`ULog::messages`]; from a `Read` or a log still being written, [`stream`] |
+//! | load all topics as columns | [`load_columns`] |
+//! | write | [`LogWriter`], then [`DataWriter`] |
+//! | append (crash data) | [`append`] |
+//! | copy byte for byte | [`copy_log`] |
+//!
+//! A pass ([`scan`], [`scan_topics`], [`load_columns`]) reads any [`Source`]: bytes, a
+//! [`LogFile`], a parsed [`ULog`], any `Read`, a file by path. How it reads (a second
+//! thread reading ahead, threads for columns, time order, the topics an enum does not
+//! name) is a [`ScanOptions`] choice, not another function.
+//!
+//! # Naming
+//!
+//! - `ULog` is a whole log parsed; a [`Topic`] is one topic instance of it; the one
+//!   record of a topic instance that every reader shares is a
+//!   [`Subscription`](read::Subscription).
+//! - `…Record` is one data message met by a pass ([`DataRecord`], [`TopicRecord`]);
+//!   `…Reader` reads as it goes ([`FieldReader`] one field of every payload,
+//!   [`StreamReader`](stream::StreamReader) messages from a `Read`); `…Rows` are the
+//!   rows of one topic; `…Options` configure one entry point.
+//! - There is one error type per direction: [`ReadError`] (a log that cannot be read),
+//!   [`LookupError`] (a topic or field that is not there), [`TypedError`] (a binding
+//!   that does not fit, a payload that does not decode), [`WriteError`]. Each has a
+//!   position only where there is a place in the file.
+//! - The root holds what a program names; the modules hold the rest, each item at one
+//!   path: [`read`] (what a log holds: metadata, messages, findings), [`stream`],
+//!   [`columns`], [`typed`] (the machinery of bindings), [`write`](mod@write), `export` (feature
+//!   `parquet`), [`format`](mod@format) (the grammar), [`parallel`], [`testing`].
+//!
+//! # Damage
+//!
+//! Damage (truncation, corruption, unknown messages, size mismatches) never fails a
+//! read: it becomes [`Finding`]s with byte offsets, and the data around it is kept.
+//! The library never prints.
 //!
 //! ```
 //! let bytes = ulog_core::testing::sample_log();
 //! let log = ulog_core::ULog::parse(&bytes)?;
 //! assert_eq!(log.info_value("sys_name").unwrap().to_string(), "PX4");
-//! let rpm = log.topic("esc_status", 0)?.field("esc[1].esc_rpm")?;
-//! let first = log.topic("esc_status", 0)?.payload(0).unwrap();
-//! assert_eq!(rpm.read(first), Some(ulog_core::Value::I32(5001)));
+//! let esc = log.topic("esc_status", 0)?;
+//! let rpm = esc.field("esc[1].esc_rpm")?;
+//! assert_eq!(rpm.read(esc.payload(0).unwrap()), Some(ulog_core::Value::I32(5001)));
 //! assert!(log.findings().is_empty());
-//! # Ok::<(), ulog_core::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
+#![cfg_attr(docsrs, feature(doc_auto_cfg))]
 
-pub mod access;
+mod access;
+#[allow(unsafe_code)]
+mod audited;
+mod bytes;
+mod definitions;
 mod error;
 mod estimate;
 #[cfg(feature = "parquet")]
 pub mod export;
 mod finding;
-#[allow(unsafe_code)]
-#[cfg(feature = "mmap")]
-mod mmap;
-pub mod numfmt;
-pub mod read;
+mod framing;
+mod log;
+pub mod parallel;
+mod pass;
 mod suggest;
 pub mod testing;
 pub mod typed;
 mod value;
 pub mod write;
 
-pub use access::columns::{Column, ColumnData};
-pub use access::load::{load_columns, load_file_columns, LoadedColumns, TopicColumns};
-pub use access::numeric::{NumericBlock, NumericRow, NumericRows};
-pub use access::topic::{FieldReader, FieldShape, Topic};
-pub use access::typed::{scan_topics, scan_topics_only, Order, TypedRows, Walk};
-pub use error::{Error, ErrorKind, Result};
-pub use finding::{Corruption, Finding, FindingKind};
-#[cfg(feature = "mmap")]
-pub use mmap::MappedFile;
-pub use read::framing::{FlagBits, Header, MAGIC, SYNC_MAGIC};
-pub use read::iter::{MessageAt, Messages};
-pub use read::log::{
-    DefaultParam, Dropout, MultiInfo, ParamChange, ReleaseVersion, Subscription, ULog,
-    UnknownMessage,
-};
-pub use read::message::{KeyValue, LogLevel, LogMessage, Message};
-pub use read::offsets::{MessageOffsets, OffsetsIter};
-pub use read::scan::{scan, scan_reader, scan_reader_ahead, ScanRecord, ScanSummary, ScanTopic};
-pub use read::stream::{Incremental, Status, StreamReader};
-pub use read::timestamp::{TimestampField, Unwrapper};
-#[cfg(feature = "derive")]
-pub use typed::{ulog_module, ulog_structs};
-pub use typed::{CharArray, Plan, PlanKind, ULogMessage, ULogTopics};
-pub use ulog_format as format;
-pub use value::{Array, NumpyFloat, Str, Value};
-pub use write::append::{append, Appender, ExistingSubscription};
+pub use access::field::FieldReader;
+pub use access::load::load_columns;
+pub use access::lookup::LookupError;
+pub use access::topic::Topic;
+pub use error::ReadError;
+pub use finding::Finding;
+pub use log::file::LogFile;
+pub use log::message::Message;
+pub use log::ulog::ULog;
+pub use pass::driver::{DataRecord, ScanSummary};
+pub use pass::scan::{scan, ScanOptions};
+pub use pass::source::Source;
+pub use typed::error::TypedError;
+pub use typed::message::ULogMessage;
+pub use typed::rows::TypedRows;
+pub use typed::scan::{scan_topics, TopicRecord};
+pub use typed::topics::ULogTopics;
+pub use value::Value;
+pub use write::append::append;
 pub use write::copy::copy_log;
-pub use write::raw::RawWriter;
-pub use write::writer::{
-    DataWriter, DefaultTypes, Handle, InfoValue, LogWriter, ParamValue, RawHandle, WriterOptions,
-};
+pub use write::error::WriteError;
+pub use write::writer::{DataWriter, LogWriter};
+
+/// The derive macros share their traits' names (feature `derive`).
+#[cfg(feature = "derive")]
+pub use ulog_derive::{ulog_module, ulog_structs, ULogMessage, ULogTopics};
+
+/// The grammar and layout model of format strings (the `ulog-format` crate).
+pub use ulog_format as format;
+
+/// What a log holds and what reading it reports: the header and flag bits,
+/// subscriptions, information and parameters, logged strings, messages, findings,
+/// the order and flow of a pass, and the kinds of [`ReadError`].
+pub mod read {
+    pub use crate::access::field::FieldShape;
+    pub use crate::access::lookup::TopicNotFound;
+    pub use crate::access::topic::Payloads;
+    pub use crate::definitions::timestamp::{TimestampField, Unwrapper};
+    pub use crate::definitions::Subscription;
+    pub use crate::error::ReadErrorKind;
+    pub use crate::finding::{Corruption, FindingKind};
+    pub use crate::framing::{FlagBits, Header};
+    pub use crate::log::message::{KeyValue, LogLevel, LoggedString};
+    pub use crate::log::messages::{MessageAt, Messages};
+    pub use crate::log::metadata::{
+        DefaultParam, Dropout, MultiInfo, ParamChange, ReleaseVersion, UnknownMessage,
+    };
+    pub use crate::log::offsets::{MessageOffsets, OffsetsIter};
+    pub use crate::pass::scan::{ScanFlow, ScanOrder};
+    pub use crate::value::{LogText, ValueArray};
+}
+
+/// Reading a log as its bytes come: [`PushReader`](stream::PushReader) is fed chunks
+/// (a socket, a log still being written), [`StreamReader`](stream::StreamReader)
+/// pulls them from any `Read`. Both yield every message, in bounded memory.
+pub mod stream {
+    pub use crate::pass::stream::{Progress, PushReader, StreamReader};
+}
+
+/// Topics as typed columns ([`load_columns`], [`Topic::columns`]), and every number of a payload read into
+/// `f64` rows at once, for generic tools.
+pub mod columns {
+    pub use crate::access::columns::{Column, ColumnData};
+    pub use crate::access::load::{LoadedColumns, TopicColumns};
+    pub use crate::access::numeric::{NumericBlock, NumericRow, NumericRows};
+}

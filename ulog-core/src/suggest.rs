@@ -14,22 +14,46 @@ fn distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
+/// How far `candidate` is from `name`: 1 when it contains `name` (a binding named
+/// `local_position` for `vehicle_local_position`), else the edit distance; `None` when
+/// it is too far to be a likely meaning.
+fn closeness(name: &str, candidate: &str) -> Option<usize> {
+    let d = if !name.is_empty() && candidate.contains(name) {
+        1
+    } else {
+        distance(name, candidate)
+    };
+    (d <= (name.len() / 3).max(2)).then_some(d)
+}
+
 /// The candidate closest to `name`, if it is close enough to be a likely typo (or
 /// contains `name`).
 pub(crate) fn closest<'c>(name: &str, candidates: impl Iterator<Item = &'c str>) -> Option<String> {
-    let mut best: Option<(usize, &str)> = None;
+    closest_n(name, candidates, 1).pop()
+}
+
+/// Up to `n` candidates close to `name`, closest first (ties in the candidates'
+/// order), each once.
+pub(crate) fn closest_n<'c>(
+    name: &str,
+    candidates: impl Iterator<Item = &'c str>,
+    n: usize,
+) -> Vec<String> {
+    let mut found: Vec<(usize, &str)> = Vec::new();
     for c in candidates {
-        let d = if c.contains(name) && !name.is_empty() {
-            1
-        } else {
-            distance(name, c)
-        };
-        if best.map_or(true, |(bd, _)| d < bd) {
-            best = Some((d, c));
+        if c == name || found.iter().any(|&(_, f)| f == c) {
+            continue;
+        }
+        if let Some(d) = closeness(name, c) {
+            found.push((d, c));
         }
     }
-    best.filter(|&(d, _)| d <= (name.len() / 3).max(2))
+    found.sort_by_key(|&(d, _)| d);
+    found
+        .into_iter()
+        .take(n)
         .map(|(_, c)| c.to_owned())
+        .collect()
 }
 
 #[cfg(test)]
@@ -42,5 +66,19 @@ mod tests {
             Some("vehicle_attitude")
         );
         assert_eq!(super::closest("battery", names.into_iter()), None);
+    }
+
+    #[test]
+    fn suggests_the_names_a_part_of_a_name_is_in() {
+        let names = [
+            "vehicle_local_position",
+            "vehicle_local_position_setpoint",
+            "vehicle_global_position",
+            "vehicle_local_position",
+        ];
+        assert_eq!(
+            super::closest_n("local_position", names.into_iter(), 3),
+            ["vehicle_local_position", "vehicle_local_position_setpoint"]
+        );
     }
 }

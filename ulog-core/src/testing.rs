@@ -1,10 +1,10 @@
 //! Building raw ULog bytes message by message, for tests, examples and fuzz seeds, and
-//! a few hooks for tests and fuzzing ([`scan_reader_ahead_in`]).
+//! a few hooks for tests and fuzzing ([`read_ahead_in`], [`load_columns_in`]).
 //!
 //! This writes exactly the bytes it is told to, valid or not, so that tests can build
 //! damaged logs too. (Applications that log data use the writer, not this.)
 
-use crate::read::framing::{MAGIC, SYNC_MAGIC};
+use crate::bytes::{MAGIC, SYNC_MAGIC};
 
 /// A byte-level ULog builder.
 ///
@@ -258,58 +258,68 @@ pub fn sample_log() -> Vec<u8> {
     b.into_bytes()
 }
 
-/// [`scan_reader_ahead`](crate::scan_reader_ahead) reading `chunk` bytes at a time (at
-/// least 1) with `room` bytes kept before each chunk for what framing still needs of
-/// the one before: small sizes take the path a file rarely takes, where those bytes
-/// do not fit the room. For tests and fuzzing.
+/// [`scan`](crate::scan) of a reader read ahead ([`ScanOptions::read_ahead`](crate::ScanOptions::read_ahead)),
+/// reading `chunk` bytes at a time (at least 1) with `room` bytes kept before each
+/// chunk for what framing still needs of the one before: small sizes take the path a
+/// file rarely takes, where those bytes do not fit the room. For tests and fuzzing.
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
+/// use ulog_core::ScanOptions;
 /// let mut small = Vec::new();
-/// let summary = ulog_core::testing::scan_reader_ahead_in(&bytes[..], 5, 2, |r| {
-///     small.push(r.offset)
-/// })?;
+/// let summary = ulog_core::testing::read_ahead_in(&bytes[..], 5, 2, |r| small.push(r.offset))?;
 /// let mut plain = Vec::new();
-/// assert_eq!(summary, ulog_core::scan(&bytes, |r| plain.push(r.offset))?);
+/// assert_eq!(summary, ulog_core::scan(&bytes, &ScanOptions::default(), |r| plain.push(r.offset))?);
 /// assert_eq!(small, plain);
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), ulog_core::ReadError>(())
 /// ```
-pub fn scan_reader_ahead_in<R, F>(
+pub fn read_ahead_in<R, F>(
     src: R,
     chunk: usize,
     room: usize,
     mut f: F,
-) -> crate::Result<crate::ScanSummary>
+) -> Result<crate::ScanSummary, crate::ReadError>
 where
     R: std::io::Read + Send,
-    F: FnMut(crate::ScanRecord<'_, '_>),
+    F: FnMut(crate::DataRecord<'_>),
 {
-    crate::read::scan::read_ahead(src, chunk.max(1), room, &mut |r| {
+    use crate::pass::driver::{Driver, Hand};
+    let mut driver = Driver::new();
+    crate::pass::source::read_ahead_chunks(src, chunk.max(1), room, &mut driver, &mut |r| {
         f(r);
-        true
-    })
+        Hand::Next
+    })?;
+    Ok(driver.summary())
 }
 
-/// [`load_file_columns`](crate::load_file_columns) on exactly `threads` threads (at
-/// least 1; no minimum file size per thread), the topics shared by their work in the
-/// file's first `sample` bytes (`0`: none, every topic first met after the sample).
-/// For tests and fuzzing.
+/// [`load_columns`](crate::load_columns) of `source` (bytes or a file, read once per
+/// thread) on exactly `threads` threads (at least 1; no minimum size per thread),
+/// the topics shared by their work in the log's first `sample` bytes (`0`: none,
+/// every topic first met after the sample). For tests and fuzzing.
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
-/// let path = std::env::temp_dir().join(format!("ulog-doc-{}.ulg", std::process::id()));
-/// std::fs::write(&path, &bytes)?;
-/// let shared = ulog_core::testing::load_file_columns_in(&path, 2, 100)?;
-/// assert_eq!(shared.summary, ulog_core::load_columns(&bytes[..])?.summary);
-/// # std::fs::remove_file(&path)?;
-/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// use ulog_core::{ScanOptions, Source};
+/// let shared = ulog_core::testing::load_columns_in(Source::from(&bytes), 2, 100)?;
+/// let one = ulog_core::load_columns(&bytes, &ScanOptions::default())?;
+/// assert_eq!(shared, one);
+/// # Ok::<(), ulog_core::ReadError>(())
 /// ```
-pub fn load_file_columns_in(
-    path: impl AsRef<std::path::Path>,
+pub fn load_columns_in(
+    source: crate::Source<'_>,
     threads: usize,
     sample: u64,
-) -> crate::Result<crate::LoadedColumns> {
-    use crate::access::load::{file_len, load_shared};
-    let path = path.as_ref();
-    load_shared(path, file_len(path)?, threads.max(1), sample)
+) -> Result<crate::columns::LoadedColumns, crate::ReadError> {
+    use crate::pass::source::Inner;
+    let len = match &source.inner {
+        Inner::Bytes(bytes, _) => bytes.len() as u64,
+        Inner::File(path) => crate::access::load::file_len(path)?,
+        Inner::Parsed(log) => log.data().len() as u64,
+        Inner::Reader(_) => u64::MAX,
+    };
+    match source.inner {
+        // A reader is read once, on this thread.
+        Inner::Reader(_) => crate::access::load::load_one(source, false, len),
+        _ => crate::access::load::load_shared(&source, len, threads.max(1), sample),
+    }
 }

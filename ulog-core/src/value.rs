@@ -4,12 +4,13 @@ use core::fmt;
 
 use ulog_format::BasicType;
 
-/// A `char[N]` string: the bytes as logged (no terminating NUL is required; text after
-/// a NUL is kept). ULog does not promise UTF-8, so the bytes are kept and shown lossily.
+/// Text as logged: a `char[N]` field, a logged string, a key. The bytes are kept as
+/// they are (no terminating NUL is required; text after a NUL is kept): ULog does not
+/// promise UTF-8, so they are shown lossily.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Str<'a>(pub &'a [u8]);
+pub struct LogText<'a>(pub &'a [u8]);
 
-impl<'a> Str<'a> {
+impl<'a> LogText<'a> {
     /// The bytes as logged.
     pub fn as_bytes(&self) -> &'a [u8] {
         self.0
@@ -27,18 +28,18 @@ impl<'a> Str<'a> {
 
     /// The bytes up to the first NUL: how C code and pyulog's CSV export read a fixed
     /// `char[N]` field.
-    pub fn until_nul(&self) -> Str<'a> {
-        Str(self.0.split(|&b| b == 0).next().unwrap_or(&[]))
+    pub fn until_nul(&self) -> LogText<'a> {
+        LogText(self.0.split(|&b| b == 0).next().unwrap_or(&[]))
     }
 }
 
-impl fmt::Debug for Str<'_> {
+impl fmt::Debug for LogText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         fmt::Debug::fmt(&self.to_string_lossy(), f)
     }
 }
 
-impl fmt::Display for Str<'_> {
+impl fmt::Display for LogText<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.to_string_lossy())
     }
@@ -46,16 +47,16 @@ impl fmt::Display for Str<'_> {
 
 /// An array of a basic type, borrowed from the payload.
 #[derive(Clone, Copy, PartialEq)]
-pub struct Array<'a> {
+pub struct ValueArray<'a> {
     ty: BasicType,
     bytes: &'a [u8],
 }
 
-impl<'a> Array<'a> {
+impl<'a> ValueArray<'a> {
     /// An array of `ty` over `bytes` (any bytes past the last whole element are ignored).
-    pub fn new(ty: BasicType, bytes: &'a [u8]) -> Array<'a> {
+    pub fn new(ty: BasicType, bytes: &'a [u8]) -> ValueArray<'a> {
         let n = bytes.len() / ty.size();
-        Array {
+        ValueArray {
             ty,
             bytes: &bytes[..n * ty.size()],
         }
@@ -98,7 +99,7 @@ impl<'a> Array<'a> {
     }
 }
 
-impl fmt::Debug for Array<'_> {
+impl fmt::Debug for ValueArray<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_list().entries(self.iter()).finish()
     }
@@ -133,9 +134,9 @@ pub enum Value<'a> {
     /// a single `char`
     Char(u8),
     /// `char[N]`
-    Str(Str<'a>),
+    Str(LogText<'a>),
     /// an array of a basic type other than `char`
-    Array(Array<'a>),
+    Array(ValueArray<'a>),
     /// bytes whose type this reader cannot decode (a nested type in an information
     /// key, or a value of the wrong length for its type)
     Bytes(&'a [u8]),
@@ -171,12 +172,12 @@ impl<'a> Value<'a> {
     }
 
     /// Decodes `bytes` as a value of `ty` (an array when `array_len` is given):
-    /// a `char` array is a string, other arrays are [`Array`]s, and bytes of the wrong
+    /// a `char` array is a string, other arrays are [`ValueArray`]s, and bytes of the wrong
     /// length for a scalar come back as [`Value::Bytes`].
     pub fn decode(ty: BasicType, array_len: Option<usize>, bytes: &'a [u8]) -> Value<'a> {
         match (ty, array_len) {
-            (BasicType::Char, Some(_)) => Value::Str(Str(bytes)),
-            (_, Some(_)) => Value::Array(Array::new(ty, bytes)),
+            (BasicType::Char, Some(_)) => Value::Str(LogText(bytes)),
+            (_, Some(_)) => Value::Array(ValueArray::new(ty, bytes)),
             (_, None) if bytes.len() == ty.size() => Value::read_scalar(ty, bytes),
             (_, None) => Value::Bytes(bytes),
         }
@@ -225,7 +226,7 @@ impl<'a> Value<'a> {
     }
 
     /// The string, for `char[N]` values.
-    pub fn as_str(&self) -> Option<Str<'a>> {
+    pub fn as_str(&self) -> Option<LogText<'a>> {
         match self {
             Value::Str(s) => Some(*s),
             _ => None,
@@ -233,41 +234,12 @@ impl<'a> Value<'a> {
     }
 }
 
-/// Displays a float as numpy prints a scalar of its type (and so pyulog's CSV): the
-/// shortest text that reads back to the same value (ties to the even digit),
-/// positional between 1e-4 and 1e6 for `f32` and 1e16 for `f64` (Python's `repr` of a
-/// float follows the `f64` rules), scientific outside (`1e-05`, `1.5e+16`), always
-/// with a fractional part (`1.0`), and `nan`, `inf`, `-inf`.
-///
-/// ```
-/// use ulog_core::NumpyFloat;
-/// assert_eq!(NumpyFloat(0.1f32).to_string(), "0.1");
-/// assert_eq!(NumpyFloat(4e6f32).to_string(), "4e+06");
-/// assert_eq!(NumpyFloat(f64::from(0.1f32)).to_string(), "0.10000000149011612");
-/// ```
-#[derive(Debug, Clone, Copy)]
-pub struct NumpyFloat<T>(pub T);
-
-impl fmt::Display for NumpyFloat<f32> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut text = [0u8; crate::numfmt::NUM_LEN];
-        let n = crate::numfmt::format_numpy_f32(self.0, &mut text);
-        f.write_str(core::str::from_utf8(&text[..n]).map_err(|_| fmt::Error)?)
-    }
-}
-
-impl fmt::Display for NumpyFloat<f64> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut text = [0u8; crate::numfmt::NUM_LEN];
-        let n = crate::numfmt::format_numpy_f64(self.0, &mut text);
-        f.write_str(core::str::from_utf8(&text[..n]).map_err(|_| fmt::Error)?)
-    }
-}
-
 impl fmt::Display for Value<'_> {
-    /// As pyulog prints values: integers in decimal, floats in numpy's shortest form,
-    /// booleans as `1`/`0` (pyulog keeps them as `int8`), strings as (lossy) text,
-    /// arrays as `[a, b]`.
+    /// Numbers as Rust prints them (floats in their shortest form that reads back to
+    /// the same value, `1.0`, `1e-7`, `NaN`), booleans as `true`/`false`, a `char` as
+    /// its byte's character (`A`; its code in hex when it is not printable ASCII),
+    /// strings as (lossy) text, arrays as `[a, b]`, bytes in hex. (The `ulog` command
+    /// line prints values as pyulog does; that is its own formatting.)
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Value::I8(v) => write!(f, "{v}"),
@@ -278,10 +250,11 @@ impl fmt::Display for Value<'_> {
             Value::U32(v) => write!(f, "{v}"),
             Value::I64(v) => write!(f, "{v}"),
             Value::U64(v) => write!(f, "{v}"),
-            Value::F32(v) => write!(f, "{}", NumpyFloat(*v)),
-            Value::F64(v) => write!(f, "{}", NumpyFloat(*v)),
-            Value::Bool(v) => f.write_str(if *v { "1" } else { "0" }),
-            Value::Char(v) => write!(f, "{}", *v as i8),
+            Value::F32(v) => write!(f, "{v:?}"),
+            Value::F64(v) => write!(f, "{v:?}"),
+            Value::Bool(v) => write!(f, "{v}"),
+            Value::Char(v) if v.is_ascii_graphic() || *v == b' ' => write!(f, "{}", *v as char),
+            Value::Char(v) => write!(f, "{v:#04x}"),
             Value::Str(s) => write!(f, "{s}"),
             Value::Array(a) => {
                 f.write_str("[")?;
@@ -308,15 +281,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn values_display_as_pyulog_prints_them() {
-        // The number rules themselves are tested in `numfmt`.
-        assert_eq!(Value::F32(4e6).to_string(), "4e+06");
+    fn values_display_as_rust_prints_them() {
+        assert_eq!(Value::F32(4e6).to_string(), "4000000.0");
+        assert_eq!(Value::F32(1e-7).to_string(), "1e-7");
         assert_eq!(
             Value::F64(f64::from(0.1f32)).to_string(),
             "0.10000000149011612"
         );
         assert_eq!(Value::I64(-3).to_string(), "-3");
-        assert_eq!(Value::Char(b'A').to_string(), "65");
+        assert_eq!(Value::Char(b'A').to_string(), "A");
+        assert_eq!(Value::Char(0).to_string(), "0x00");
+        assert_eq!(Value::Bool(true).to_string(), "true");
     }
 
     #[test]
@@ -342,6 +317,5 @@ mod tests {
         let s = Value::decode(BasicType::Char, Some(6), b"ab\0cd\xff");
         assert_eq!(s.as_str().unwrap().until_nul().as_bytes(), b"ab");
         assert_eq!(s.to_string(), "ab\0cd\u{fffd}");
-        assert_eq!(Value::Bool(true).to_string(), "1");
     }
 }

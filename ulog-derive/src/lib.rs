@@ -1,9 +1,9 @@
 //! Derive and function-like macros that bind Rust structs to ULog message formats.
 //!
-//! Use them through `ulog-core` with its `derive` feature (`ulog_core::typed::
-//! {ULogMessage, ULogTopics, ulog_structs, ulog_module}`): the generated code names the
-//! runtime as `::ulog_core` unless told otherwise with `#[ulog(crate = "…")]` (or
-//! `crate = path;` in the function-like macros).
+//! Use them through `ulog-core` with its `derive` feature (`ulog_core::{ULogMessage,
+//! ULogTopics, ulog_structs, ulog_module}`): the generated code names the runtime as
+//! `::ulog_core` unless told otherwise with `#[ulog(crate = "…")]` (or `crate = path;`
+//! in the function-like macros).
 //!
 //! This crate is a shell: the pipeline (parse → lower → check → expand, every error of
 //! an input at once, with spans) lives in `ulog-codegen`, which the `ulog codegen`
@@ -12,19 +12,24 @@
 use proc_macro::TokenStream;
 
 /// Binds a struct to a ULog message: its format (with nested formats), layout, and
-/// decoding and encoding. See `ulog_core::typed::ULogMessage`.
+/// decoding and encoding. See `ulog_core::ULogMessage`.
 ///
-/// Attributes: `#[ulog(name = "…")]` (message name; default: the struct name in
-/// snake_case), `#[ulog(crate = "…")]` (the runtime crate's path); on fields
-/// `#[ulog(name = "…")]`, `#[ulog(alias = "…")]` (repeatable) and `#[ulog(char)]`
-/// (for a `[u8; N]` that is a `char[N]`). Fields named `_padding…` are padding.
+/// Attributes on the struct: `#[ulog(name = "…")]` (the topic's name; default: the
+/// struct name in snake_case: give it whenever the struct is named otherwise),
+/// `#[ulog(crate = "…")]` (the runtime crate's path), `#[ulog(view)]` (payloads can
+/// be borrowed as the struct: with `#[repr(C)]` and fields of `u8`, `i8`,
+/// `CharArray<N>` and `ulog_core::typed::le` types). On fields: `#[ulog(name = "…")]`,
+/// `#[ulog(alias = "…")]` (repeatable: the names of older firmware), `#[ulog(char)]`
+/// (a `[u8; N]` that is a `char[N]`), `#[ulog(default)]` or `#[ulog(default = expr)]`
+/// (the value when a log lacks the field). An `Option<T>` field is `None` when a log
+/// lacks it. Fields named `_padding…` are padding.
 #[proc_macro_derive(ULogMessage, attributes(ulog))]
 pub fn derive_ulog_message(input: TokenStream) -> TokenStream {
     ulog_codegen::derive_message(input.into()).into()
 }
 
 /// Binds an enum with one tuple variant per binding, for reading several topics in
-/// one walk. See `ulog_core::typed::ULogTopics`.
+/// pass. See `ulog_core::ULogTopics` and `ulog_core::scan_topics`.
 #[proc_macro_derive(ULogTopics, attributes(ulog))]
 pub fn derive_ulog_topics(input: TokenStream) -> TokenStream {
     ulog_codegen::derive_topics(input.into()).into()

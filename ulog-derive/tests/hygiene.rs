@@ -6,7 +6,8 @@
 
 extern crate std;
 
-use ::renamed_ulog::typed::{Plan, PlanKind, ULogMessage, ULogTopics};
+use ::renamed_ulog::typed::{le, Plan, PlanKind};
+use ::renamed_ulog::{ULogMessage, ULogTopics};
 use std::assert_eq;
 
 /// A nested type.
@@ -38,6 +39,33 @@ pub struct Outer {
     pub _padding1: [u8; 5],
 }
 
+/// Optional fields, a default and an alias.
+#[derive(ULogMessage, std::fmt::Debug, std::cmp::PartialEq)]
+#[ulog(crate = "::renamed_ulog", name = "outer_message")]
+pub struct Optional {
+    /// Time.
+    pub timestamp: u64,
+    /// Not in every log.
+    pub inner: std::option::Option<[Inner; 2]>,
+    /// A value when the log lacks it.
+    #[ulog(default = 9)]
+    pub missing: u8,
+    /// A default of the type.
+    #[ulog(default, alias = "kind")]
+    pub r#type: u8,
+}
+
+/// A binding borrowed from payloads.
+#[derive(ULogMessage, std::fmt::Debug)]
+#[ulog(crate = "::renamed_ulog", name = "outer_view", view)]
+#[repr(C)]
+pub struct View {
+    /// Time.
+    pub timestamp: le::U64,
+    /// A value.
+    pub value: le::F32,
+}
+
 /// Two topics.
 #[derive(ULogTopics, std::fmt::Debug)]
 #[ulog(crate = "::renamed_ulog")]
@@ -48,7 +76,14 @@ pub enum Topics {
     Inner(Inner),
 }
 
-::renamed_ulog::typed::ulog_structs!(
+::renamed_ulog::ulog_structs!(
+    views;
+    crate = ::renamed_ulog;
+    "view_outer:uint64_t timestamp;view_inner[2] inner;bool ok;uint8_t[3] _padding0;",
+    "view_inner:float x;int8_t type;uint8_t[3] _padding0;"
+);
+
+::renamed_ulog::ulog_structs!(
     crate = ::renamed_ulog;
     "gen_outer:uint64_t timestamp;gen_inner[2] inner;char[3] text;bool ok;uint8_t[4] _padding0;",
     "gen_inner:float x;int8_t type;uint8_t[3] _padding0;"
@@ -90,4 +125,12 @@ fn renamed_crate_builds_and_decodes() {
         GenOuter::schema().format_text(),
         "gen_outer:uint64_t timestamp;gen_inner[2] inner;char[3] text;bool ok;uint8_t[4] _padding0;"
     );
+    let optional = Plan::<Optional>::new(<Outer as ULogMessage>::layout()).unwrap();
+    let read = optional.decode(&bytes).unwrap();
+    assert_eq!((read.missing, read.r#type), (9, 7));
+    assert_eq!(read.inner.map(|i| i[1].a), std::option::Option::Some(4));
+    const _: () = ::std::assert!(<View as ::renamed_ulog::typed::WireField>::IS_WIRE);
+    // A generated view leaves out the trailing padding of a topic, not of a nested type.
+    assert_eq!(::std::mem::size_of::<ViewOuter>(), 8 + 2 * 8 + 1);
+    assert_eq!(::std::mem::size_of::<ViewInner>(), 8);
 }

@@ -6,7 +6,8 @@
 
 extern crate std;
 
-use ::renamed_ulog::typed::{CharArray, ULogMessage};
+use ::renamed_ulog::typed::CharArray;
+use ::renamed_ulog::ULogMessage;
 use std::borrow::ToOwned;
 use std::iter::{IntoIterator, Iterator};
 use std::string::String;

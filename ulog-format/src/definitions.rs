@@ -1,7 +1,8 @@
-//! A minimal walk of a log's definitions section, for tools that only need the
-//! format texts (the derive macros read a reference log at compile time). The
-//! reader in `ulog-core` has its own full framing; this stops at the first
-//! subscription or data message.
+//! The file's fixed parts (magic, header and message header sizes, sync magic), and a
+//! minimal walk of a log's definitions section for tools that only need the format
+//! texts (the derive macros read a reference log at compile time). The reader in
+//! `ulog-core` has its own full framing; this walk stops at the first subscription or
+//! data message.
 
 use core::fmt;
 
@@ -10,6 +11,13 @@ pub const MAGIC: [u8; 7] = *b"ULog\x01\x12\x35";
 
 /// The size of the file header (magic, version byte, start timestamp).
 pub const HEADER_SIZE: usize = 16;
+
+/// The size of a message header: `u16` payload size, then the `u8` message type.
+pub const MESSAGE_HEADER_SIZE: usize = 3;
+
+/// The payload of a sync (`S`) message, which readers search for to find messages
+/// again after corruption.
+pub const SYNC_MAGIC: [u8; 8] = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
 
 /// Why the definitions of a log could not be walked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,13 +82,13 @@ pub fn format_texts(bytes: &[u8]) -> Result<Vec<(usize, &[u8])>, DefinitionsErro
     }
     let mut out = Vec::new();
     let mut pos = HEADER_SIZE;
-    while let Some(header) = bytes.get(pos..pos + 3) {
+    while let Some(header) = bytes.get(pos..pos + MESSAGE_HEADER_SIZE) {
         let size = usize::from(u16::from_le_bytes([header[0], header[1]]));
         let kind = header[2];
         if kind == b'A' || kind == b'D' {
             break;
         }
-        let start = pos + 3;
+        let start = pos + MESSAGE_HEADER_SIZE;
         let Some(payload) = bytes.get(start..start + size) else {
             break;
         };

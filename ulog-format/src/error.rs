@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use crate::parse::Span;
+use crate::span::Span;
 
 /// What is wrong with a format string.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -2,10 +2,9 @@
 //!
 //! A ULog `F` message defines a message type as text:
 //! `vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;`.
-//! This crate parses that text into a [`Format`] (the grammar, in [`parse`](mod@parse))
-//! and resolves a format with the nested formats it uses into a [`Layout`]: the
-//! offset, size and path of every field, with nested types laid out with their own
-//! padding (in [`layout`](mod@layout)).
+//! This crate parses that text into a [`Format`] (the grammar) and resolves a format
+//! with the nested formats it uses into a [`Layout`]: the offset, size and path of
+//! every field, with nested types laid out with their own padding.
 //!
 //! It is the one model shared by the reader (`ulog-core`, at run time) and the derive
 //! macros (`ulog-derive`, at compile time), so it has no dependencies.
@@ -28,15 +27,17 @@
 mod basic;
 pub mod definitions;
 mod error;
-pub mod layout;
-pub mod parse;
+mod layout;
+mod parse;
+mod span;
 
 pub use basic::BasicType;
 pub use error::{FormatError, FormatErrorKind, LayoutError, LayoutErrorKind};
 pub use layout::{
     FieldRef, FormatLookup, Layout, LayoutField, LayoutType, Leaf, LeafKind, Limits, Resolver,
 };
-pub use parse::{parse_field, parse_key, Field, Format, Span, TypeName};
+pub use parse::{parse_field, parse_key, Field, Format, TypeName};
+pub use span::Span;
 
 /// Whether a field name marks padding: names starting with `_padding` are never
 /// shown as values and their bytes are ignored.

@@ -9,21 +9,7 @@ use core::fmt;
 
 use crate::basic::BasicType;
 use crate::error::{FormatError, FormatErrorKind};
-
-/// A byte range in a format text.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Span {
-    /// First byte.
-    pub start: usize,
-    /// One past the last byte.
-    pub end: usize,
-}
-
-impl Span {
-    fn new(start: usize, end: usize) -> Span {
-        Span { start, end }
-    }
-}
+use crate::span::Span;
 
 /// The type of a field: basic, or the name of another (nested) format.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]

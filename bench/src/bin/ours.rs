@@ -4,20 +4,21 @@
 //! ours framing FILE               ULog::parse on a memory map (indexes every message)
 //! ours scan FILE                  scan over a memory map, counting the data messages
 //!                                 (framing without the index)
-//! ours decode-stream FILE         scan_reader over the file (read in 256 KiB chunks);
+//! ours decode-stream FILE         scan of Source::file (read in 256 KiB chunks);
 //!                                 every field of every data message read as a typed
 //!                                 value: numbers through a NumericBlock per subscription
 //!                                 (64 payloads read column by column), `char[N]`
 //!                                 strings through FieldReader
-//! ours decode-ahead FILE          the same with scan_reader_ahead (the next chunk read
-//!                                 on a second thread while one is decoded)
+//! ours decode-ahead FILE          the same with ScanOptions::read_ahead (the next chunk
+//!                                 read on a second thread while one is decoded)
 //! ours decode-mmap FILE           the same with scan over a memory map
 //! ours typed FILE                 sensor_combined and vehicle_attitude through derived
-//!                                 structs, one pass over a memory map (scan_topics_only)
+//!                                 structs, one pass over a memory map (scan_topics)
 //! ours typed-indexed FILE         the same through ULog::parse + ULog::read::<T>
 //! ours columns FILE [THREADS]     every topic into typed columns, read from the file in
-//!                                 one pass per thread (load_file_columns)
-//! ours columns-indexed FILE THREADS  the same through ULog::parse + load_all_columns
+//!                                 one pass per thread (load_columns of Source::file)
+//! ours columns-indexed FILE THREADS  the same through ULog::parse + load_columns of the
+//!                                 parsed log
 //! ours write OUT MESSAGES         MESSAGES sensor_combined rows through LogWriter
 //! ```
 //!
@@ -29,9 +30,12 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::process::ExitCode;
 
-use ulog_core::typed::{ULogMessage, ULogTopics};
+use ulog_core::columns::NumericBlock;
+use ulog_core::read::FieldShape;
+use ulog_core::write::WriterOptions;
 use ulog_core::{
-    FieldReader, FieldShape, LogWriter, MappedFile, NumericBlock, ScanRecord, Value, WriterOptions,
+    DataRecord, FieldReader, LogFile, LogWriter, ScanOptions, Source, ULogMessage, ULogTopics,
+    Value,
 };
 
 type Failure = Box<dyn std::error::Error>;
@@ -47,7 +51,7 @@ fn add(sum: &mut f64, v: Value<'_>) {
 }
 
 fn framing(path: &str) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let log = file.parse()?;
     println!(
         "messages={} topics={} check={}",
@@ -59,10 +63,10 @@ fn framing(path: &str) -> Result<(), Failure> {
 }
 
 fn scan_only(path: &str) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let mut data = 0u64;
     let mut check = 0u64;
-    let summary = ulog_core::scan(file.bytes(), |r| {
+    let summary = ulog_core::scan(&file, &ScanOptions::default(), |r| {
         data += 1;
         check = check.wrapping_add(r.payload.len() as u64);
     })?;
@@ -114,14 +118,15 @@ struct Readers(Vec<Option<Option<Decoder>>>);
 impl Readers {
     /// Gathers a data message; adds its block to the checksum when full.
     #[inline]
-    fn add(&mut self, sum: &mut f64, r: &ScanRecord<'_, '_>) {
-        if r.subscription >= self.0.len() {
-            self.0.resize_with(r.subscription + 1, || None);
+    fn add(&mut self, sum: &mut f64, r: &DataRecord<'_>) {
+        let sub = r.topic.index();
+        if sub >= self.0.len() {
+            self.0.resize_with(sub + 1, || None);
         }
-        let decoder = self.0[r.subscription].get_or_insert_with(|| {
-            r.layout.map(|l| Decoder {
+        let decoder = self.0[sub].get_or_insert_with(|| {
+            r.topic.layout().ok().map(|l| Decoder {
                 block: NumericBlock::new(l),
-                strings: FieldReader::columns_of(l)
+                strings: FieldReader::all(l)
                     .into_iter()
                     .filter(|c| c.shape() != FieldShape::Scalar)
                     .collect(),
@@ -143,15 +148,10 @@ impl Readers {
 }
 
 fn decode_stream(path: &str, ahead: bool) -> Result<(), Failure> {
-    let file = File::open(path)?;
     let mut readers = Readers(Vec::new());
     let mut sum = 0.0f64;
-    let add = |r: ulog_core::ScanRecord<'_, '_>| readers.add(&mut sum, &r);
-    let summary = if ahead {
-        ulog_core::scan_reader_ahead(file, add)?
-    } else {
-        ulog_core::scan_reader(file, add)?
-    };
+    let options = ScanOptions::default().read_ahead(ahead);
+    let summary = ulog_core::scan(Source::file(path), &options, |r| readers.add(&mut sum, &r))?;
     readers.finish(&mut sum);
     println!(
         "messages={} data={} check={sum}",
@@ -161,10 +161,12 @@ fn decode_stream(path: &str, ahead: bool) -> Result<(), Failure> {
 }
 
 fn decode_mmap(path: &str) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let mut readers = Readers(Vec::new());
     let mut sum = 0.0f64;
-    let summary = ulog_core::scan(file.bytes(), |r| readers.add(&mut sum, &r))?;
+    let summary = ulog_core::scan(&file, &ScanOptions::default(), |r| {
+        readers.add(&mut sum, &r)
+    })?;
     readers.finish(&mut sum);
     println!(
         "messages={} data={} check={sum}",
@@ -221,16 +223,19 @@ enum Topics {
 }
 
 fn typed(path: &str) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let mut sum = 0.0f64;
     let mut rows = 0u64;
-    let mut failed: Option<ulog_core::Error> = None;
-    ulog_core::scan_topics_only::<Topics, _>(file.bytes(), |record| match record {
+    let mut failed: Option<ulog_core::TypedError> = None;
+    let options = ScanOptions::default();
+    ulog_core::scan_topics::<Topics, _, _>(&file, &options, |record| match record {
+        // Without `raw_others`, every record handed out is decoded.
         Ok(m) => {
             rows += 1;
             match m.message {
-                Topics::Sensors(r) => r.add_to(&mut sum),
-                Topics::Attitude(r) => r.add_to(&mut sum),
+                Some(Topics::Sensors(r)) => r.add_to(&mut sum),
+                Some(Topics::Attitude(r)) => r.add_to(&mut sum),
+                None => unreachable!("a raw record without raw_others"),
             }
         }
         Err(e) => failed = failed.take().or(Some(e)),
@@ -243,7 +248,7 @@ fn typed(path: &str) -> Result<(), Failure> {
 }
 
 fn typed_indexed(path: &str) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let log = file.parse()?;
     let mut sum = 0.0f64;
     let mut rows = 0u64;
@@ -272,17 +277,20 @@ fn typed_indexed(path: &str) -> Result<(), Failure> {
 }
 
 fn columns(path: &str, threads: usize) -> Result<(), Failure> {
-    let loaded = ulog_core::load_file_columns(path, threads)?;
+    let options = ScanOptions::default().threads(threads);
+    let loaded = ulog_core::load_columns(Source::file(path), &options)?;
     let tables = loaded.topics.iter().map(|t| t.columns.as_ref());
     print_columns(loaded.summary.messages, tables);
     Ok(())
 }
 
 fn columns_indexed(path: &str, threads: usize) -> Result<(), Failure> {
-    let file = MappedFile::open(path)?;
+    let file = LogFile::open(path)?;
     let log = file.parse()?;
-    let tables = log.load_all_columns(threads);
-    print_columns(log.message_count(), tables.iter().map(Result::as_ref));
+    let options = ScanOptions::default().threads(threads);
+    let loaded = ulog_core::load_columns(&log, &options)?;
+    let tables = loaded.topics.iter().map(|t| t.columns.as_ref());
+    print_columns(log.message_count(), tables);
     Ok(())
 }
 
@@ -290,7 +298,7 @@ fn columns_indexed(path: &str, threads: usize) -> Result<(), Failure> {
 /// could not be loaded.
 fn print_columns<'t, E: 't>(
     messages: u64,
-    tables: impl Iterator<Item = Result<&'t Vec<ulog_core::Column>, E>>,
+    tables: impl Iterator<Item = Result<&'t Vec<ulog_core::columns::Column>, E>>,
 ) {
     let (mut values, mut topics, mut failed) = (0usize, 0usize, 0usize);
     for t in tables {

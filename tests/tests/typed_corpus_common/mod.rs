@@ -13,8 +13,8 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use ulog_core::typed::{BindingVisitor, ULogMessage};
-use ulog_core::{MappedFile, Topic, ULog, Value};
+use ulog_core::typed::{BindingVisitor, TypedErrorKind, ViewVisitor, WireImage};
+use ulog_core::{LogFile, Topic, ULog, ULogMessage, Value};
 use ulog_tests::{cell_matches, recovered_stretches};
 
 /// The corpus, as `build.rs` found it (relative to this package, like the
@@ -39,6 +39,11 @@ pub struct Checker<'l, 'a> {
     pub values: usize,
     /// Rows we keep that pyulog drops (inside recovered stretches).
     pub extra_rows: usize,
+    /// With view bindings: rows borrowed in place.
+    pub borrowed: usize,
+    /// With view bindings: topic instances with rows that could not be borrowed, and
+    /// why (they are decoded by copy instead).
+    pub not_borrowed: Vec<(String, usize, String)>,
 }
 
 impl BindingVisitor for Checker<'_, '_> {
@@ -46,10 +51,19 @@ impl BindingVisitor for Checker<'_, '_> {
         // Only this part is generic; the comparison is not, to keep the ~2000
         // instantiations small.
         let log = self.log;
-        let instances = log
-            .read_instances::<T>()
-            .unwrap_or_else(|e| panic!("{}: `{}`: {e}", self.stem, T::NAME));
+        let instances = match log.read_instances::<T>() {
+            Ok(instances) => instances,
+            // A format the log defines but never subscribes: no instance to read.
+            Err(e)
+                if matches!(e.kind(), TypedErrorKind::NotFound { .. })
+                    && log.topic_instances(T::NAME).is_empty() =>
+            {
+                return;
+            }
+            Err(e) => panic!("{}: `{}`: {e}", self.stem, T::NAME),
+        };
         for rows in instances {
+            let rows = rows.unwrap_or_else(|e| panic!("{}: `{}`: {e}", self.stem, T::NAME));
             if rows.is_empty() {
                 continue;
             }
@@ -65,13 +79,61 @@ impl BindingVisitor for Checker<'_, '_> {
     }
 }
 
+impl ViewVisitor for Checker<'_, '_> {
+    fn visit<T: ULogMessage + WireImage>(&mut self) {
+        let log = self.log;
+        let Ok(instances) = log.read_instances::<T>() else {
+            assert!(log.topic_instances(T::NAME).is_empty(), "`{}`", T::NAME);
+            return;
+        };
+        for rows in instances {
+            let rows = rows.unwrap_or_else(|e| panic!("{}: `{}`: {e}", self.stem, T::NAME));
+            if rows.is_empty() {
+                continue;
+            }
+            let views: Vec<_> = rows.views().collect();
+            let mut why = None;
+            for (i, v) in views.iter().enumerate() {
+                match v {
+                    Ok(v) => {
+                        // Borrowed in place: the view is the payload's memory.
+                        let payload = rows.topic().payload(i).unwrap();
+                        assert!(std::ptr::eq(*v as *const T as *const u8, payload.as_ptr()));
+                        self.borrowed += 1;
+                    }
+                    Err(e) => {
+                        why.get_or_insert_with(|| (0, e.to_string())).0 += 1;
+                    }
+                }
+            }
+            if let Some((n, text)) = why {
+                self.not_borrowed.push((T::NAME.to_owned(), n, text));
+            }
+            // Every value, borrowed or (where it cannot be) copied, against pyulog's.
+            self.compare(rows.topic(), &mut |i, f| match views.get(i) {
+                Some(Ok(v)) => {
+                    v.visit_fields(f);
+                    true
+                }
+                Some(Err(_)) => {
+                    let m = rows.get(i).unwrap();
+                    m.unwrap_or_else(|e| panic!("`{}` row {i}: {e}", T::NAME))
+                        .visit_fields(f);
+                    true
+                }
+                None => false,
+            });
+        }
+    }
+}
+
 /// Decodes row `i` of a topic and visits its fields; `false` past the last row.
 type Decode<'d> = dyn FnMut(usize, &mut dyn FnMut(&str, Value<'_>)) -> bool + 'd;
 
 impl<'l, 'a> Checker<'l, 'a> {
     fn compare(&mut self, topic: Topic<'_, 'a>, decode: &mut Decode<'_>) {
         let stem = self.stem;
-        self.checked.insert(topic.subscription_offset());
+        self.checked.insert(topic.subscription().offset());
         let csv = corpus().join(format!(
             "expected/{stem}/csv/{stem}_{}_{}.csv",
             topic.name().replace('/', "_"),
@@ -162,10 +224,23 @@ impl<'l, 'a> Checker<'l, 'a> {
 /// generated from log `stem`. Every topic instance with data must have been decoded
 /// by a binding, and every CSV file used.
 pub fn check_logs(stems: &[&str], visit_log: fn(&str, &mut Checker<'_, '_>)) {
+    check_logs_with(stems, |stem, checker| {
+        visit_log(stem, checker);
+        true
+    });
+}
+
+/// [`check_logs`] through a function that may decline a log (`false`: no bindings for
+/// it, counted and said).
+pub fn check_logs_with(
+    stems: &[&str],
+    mut visit_log: impl FnMut(&str, &mut Checker<'_, '_>) -> bool,
+) -> Vec<Totals> {
     let mut total = 0;
+    let mut all = Vec::new();
     for stem in stems {
         let path = corpus().join(format!("files/{stem}.ulg"));
-        let file = MappedFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let file = LogFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let log = file.parse().unwrap_or_else(|e| panic!("{stem}: {e}"));
         let mut checker = Checker {
             stem,
@@ -174,12 +249,16 @@ pub fn check_logs(stems: &[&str], visit_log: fn(&str, &mut Checker<'_, '_>)) {
             checked: BTreeSet::new(),
             values: 0,
             extra_rows: 0,
+            borrowed: 0,
+            not_borrowed: Vec::new(),
         };
-        visit_log(stem, &mut checker);
+        if !visit_log(stem, &mut checker) {
+            continue;
+        }
         let with_data: Vec<_> = log.topics().filter(|t| !t.is_empty()).collect();
         for t in &with_data {
             assert!(
-                checker.checked.contains(&t.subscription_offset()),
+                checker.checked.contains(&t.subscription().offset()),
                 "{stem}: topic {}/{} has no generated binding",
                 t.name(),
                 t.multi_id()
@@ -200,6 +279,25 @@ pub fn check_logs(stems: &[&str], visit_log: fn(&str, &mut Checker<'_, '_>)) {
             checker.extra_rows
         );
         total += checker.values;
+        all.push(Totals {
+            stem: stem.to_string(),
+            rows: with_data.iter().map(|t| t.len()).sum(),
+            borrowed: checker.borrowed,
+            not_borrowed: checker.not_borrowed,
+        });
     }
     eprintln!("compared {total} values");
+    all
+}
+
+/// What [`check_logs_with`] found in one log.
+pub struct Totals {
+    /// The log's file stem.
+    pub stem: String,
+    /// Data rows of every topic instance.
+    pub rows: usize,
+    /// Rows borrowed by view bindings.
+    pub borrowed: usize,
+    /// Topics (name, rows, first reason) whose rows views could not borrow.
+    pub not_borrowed: Vec<(String, usize, String)>,
 }

@@ -1,7 +1,10 @@
 //! Events marked on the time axis: parameter changes, and logged messages of level
 //! ERROR or worse.
 
-use ulog_core::{LogLevel, ULog};
+use ulog_core::read::LogLevel;
+use ulog_core::ULog;
+
+use crate::pyfmt::value_text;
 
 /// What a marker stands for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,7 +36,7 @@ pub fn param_changes(log: &ULog<'_>, start_us: u64) -> Vec<Marker> {
         .map(|p| Marker {
             x: seconds(p.timestamp, start_us),
             kind: Kind::Param,
-            label: truncate(&format!("{}={}", p.kv.name(), p.kv.value())),
+            label: truncate(&format!("{}={}", p.kv.name(), value_text(&p.kv.value()))),
         })
         .collect()
 }

@@ -1,11 +1,11 @@
 //! The points of each field to plot: (seconds since log start, value).
 
-use ulog_core::{ErrorKind, FieldReader, FieldShape, Topic, ULog, Unwrapper};
+use ulog_core::read::{FieldShape, Unwrapper};
+use ulog_core::{FieldReader, LookupError, Topic, ULog};
 
 use super::spec::FieldSpec;
 use super::units::unit_of;
 use crate::failure::Failure;
-use crate::input;
 
 /// One line of the plot.
 #[derive(Debug, Clone)]
@@ -44,8 +44,8 @@ pub fn read(
     } else {
         topic.name().to_owned()
     };
-    let reader = topic.field(&spec.field).map_err(|e| match e.kind {
-        ErrorKind::FieldNotFound { .. } => match group_member(&topic, &spec.field) {
+    let reader = topic.field(&spec.field).map_err(|e| match e {
+        LookupError::Field { .. } => match group_member(&topic, &spec.field) {
             Some(member) => Failure::unknown_name(
                 file,
                 format!(
@@ -54,9 +54,9 @@ pub fn read(
                     spec.field
                 ),
             ),
-            None => Failure::unknown_name(file, &e.kind),
+            None => Failure::unknown_name(file, &e),
         },
-        _ => Failure::about(file, input::error_text(&e)),
+        _ => Failure::about(file, &e),
     })?;
     let readers: Vec<(String, FieldReader)> = match reader.shape() {
         FieldShape::Scalar => vec![(spec.field.clone(), reader)],
@@ -66,7 +66,7 @@ pub fn read(
                 topic
                     .field(&path)
                     .map(|r| (path, r))
-                    .map_err(|e| Failure::about(file, input::error_text(&e)))
+                    .map_err(|e| Failure::about(file, &e))
             })
             .collect::<Result<_, _>>()?,
         FieldShape::String(_) => {
@@ -122,34 +122,21 @@ fn find_topic<'l, 'a>(
     spec: &FieldSpec,
 ) -> Result<Topic<'l, 'a>, Failure> {
     let found = match spec.instance {
-        Some(n) => {
-            let there = log.topic_instances(&spec.topic);
-            if !there.is_empty() && !there.iter().any(|t| t.multi_id() == n) {
-                let ids: Vec<String> = there.iter().map(|t| t.multi_id().to_string()).collect();
-                return Err(Failure::unknown_name(
-                    file,
-                    format!(
-                        "topic `{}` has no instance {n} (it has {})",
-                        spec.topic,
-                        ids.join(", ")
-                    ),
-                ));
-            }
-            log.topic(&spec.topic, n)
-        }
+        Some(n) => log.topic(&spec.topic, n),
         None => match log.topic_instances(&spec.topic).first() {
             Some(t) => Ok(*t),
             None => log.topic(&spec.topic, 0),
         },
     };
-    found.map_err(|e| Failure::unknown_name(file, &e.kind))
+    // The library's error says which instances the topic has, or the closest names.
+    found.map_err(|e| Failure::unknown_name(file, &e))
 }
 
 /// The first column inside `path` when `path` names a nested struct or an array of
 /// them (`esc` → `esc[0].esc_count`).
 fn group_member(topic: &Topic<'_, '_>, path: &str) -> Option<String> {
-    let columns = topic.columns().ok()?;
-    columns
+    let fields = topic.fields().ok()?;
+    fields
         .iter()
         .map(|c| c.path())
         .find(|c| {

@@ -31,94 +31,60 @@ pub struct BatteryStatus {
 impl ::core::default::Default for BatteryStatus {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        voltage_v: <f32 as ::ulog_core::typed::WireField>::Wire,
-        remaining: <f32 as ::ulog_core::typed::WireField>::Wire,
-        cell_count: <u8 as ::ulog_core::typed::WireField>::Wire,
-        _padding0: [u8; 7usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<u8>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for BatteryStatus {
-        type Wire = __UlogWire;
+        type Wire = [u8; 24usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, voltage_v)
-                == ::core::mem::offset_of!(__UlogWire, voltage_v)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, remaining)
-                == ::core::mem::offset_of!(__UlogWire, remaining)
-            && <u8 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, cell_count)
-                == ::core::mem::offset_of!(__UlogWire, cell_count) && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 24usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
-                ),
-                voltage_v: <f32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.voltage_v,
-                ),
-                remaining: <f32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.remaining,
-                ),
-                cell_count: <u8 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.cell_count,
-                ),
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                voltage_v: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
+                remaining: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
+                cell_count: ::ulog_core::typed::__private::read::<
+                    u8,
+                >(wire, 16usize, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 7usize],
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                voltage_v: <f32 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.voltage_v,
-                ),
-                remaining: <f32 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.remaining,
-                ),
-                cell_count: <u8 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.cell_count,
-                ),
-                _padding0: [0u8; 7usize],
-            }
+        fn to_wire(&self) -> [u8; 24usize] {
+            let mut wire = [0u8; 24usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write::<
+                f32,
+            >(&mut wire, 8usize, &self.voltage_v);
+            ::ulog_core::typed::__private::write::<
+                f32,
+            >(&mut wire, 12usize, &self.remaining);
+            ::ulog_core::typed::__private::write::<
+                u8,
+            >(&mut wire, 16usize, &self.cell_count);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -126,67 +92,47 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.voltage_v,
-                path,
-                base,
-                "voltage_v",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.remaining,
-                path,
-                base,
-                "remaining",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.cell_count,
-                path,
-                base,
-                "cell_count",
-                f,
-            );
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for BatteryStatus {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for BatteryStatus {
+    impl ::ulog_core::ULogMessage for BatteryStatus {
         const NAME: &'static str = "battery_status";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 5usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "voltage_v",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "remaining",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "cell_count",
                     &[],
-                    <u8 as ::ulog_core::typed::WireField>::KIND,
-                    <u8 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt8,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "_padding0",
@@ -201,10 +147,10 @@ const _: () = {
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build(
-                    "battery_status",
-                    &FIELDS,
-                ))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("battery_status", &FIELDS)
+                        .with_rust_name("BatteryStatus", false)
+                })
         }
     }
 };
@@ -232,76 +178,53 @@ pub struct EscReport {
 impl ::core::default::Default for EscReport {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        esc_rpm: <i32 as ::ulog_core::typed::WireField>::Wire,
-        esc_voltage: <f32 as ::ulog_core::typed::WireField>::Wire,
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_field::<i32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for EscReport {
-        type Wire = __UlogWire;
+        type Wire = [u8; 16usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <i32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, esc_rpm)
-                == ::core::mem::offset_of!(__UlogWire, esc_rpm)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, esc_voltage)
-                == ::core::mem::offset_of!(__UlogWire, esc_voltage);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 16usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
-                ),
-                esc_rpm: <i32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.esc_rpm,
-                ),
-                esc_voltage: <f32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.esc_voltage,
-                ),
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                esc_rpm: ::ulog_core::typed::__private::read::<
+                    i32,
+                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
+                esc_voltage: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                esc_rpm: <i32 as ::ulog_core::typed::WireField>::to_wire(&self.esc_rpm),
-                esc_voltage: <f32 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.esc_voltage,
-                ),
-            }
+        fn to_wire(&self) -> [u8; 16usize] {
+            let mut wire = [0u8; 16usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write::<
+                i32,
+            >(&mut wire, 8usize, &self.esc_rpm);
+            ::ulog_core::typed::__private::write::<
+                f32,
+            >(&mut wire, 12usize, &self.esc_voltage);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -309,61 +232,49 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.esc_rpm,
-                path,
-                base,
-                "esc_rpm",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.esc_voltage,
-                path,
-                base,
-                "esc_voltage",
-                f,
-            );
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for EscReport {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for EscReport {
+    impl ::ulog_core::ULogMessage for EscReport {
         const NAME: &'static str = "esc_report";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 3usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "esc_rpm",
                     &[],
-                    <i32 as ::ulog_core::typed::WireField>::KIND,
-                    <i32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Int32,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "esc_voltage",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
             ];
             static SCHEMA: ::ulog_core::typed::__private::OnceLock<
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build("esc_report", &FIELDS))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("esc_report", &FIELDS)
+                        .with_rust_name("EscReport", false)
+                })
         }
     }
 };
@@ -393,83 +304,56 @@ pub struct EscStatus {
 impl ::core::default::Default for EscStatus {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        esc_count: <u8 as ::ulog_core::typed::WireField>::Wire,
-        _padding0: [u8; 7usize],
-        esc: [<EscReport as ::ulog_core::typed::WireField>::Wire; 2usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_field::<u8>();
-        ::ulog_core::typed::__private::assert_array_element::<EscReport>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for EscStatus {
-        type Wire = __UlogWire;
+        type Wire = [u8; 48usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <u8 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, esc_count)
-                == ::core::mem::offset_of!(__UlogWire, esc_count) && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0)
-            && <EscReport as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, esc)
-                == ::core::mem::offset_of!(__UlogWire, esc);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 48usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
-                ),
-                esc_count: <u8 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.esc_count,
-                ),
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                esc_count: ::ulog_core::typed::__private::read::<
+                    u8,
+                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 7usize],
-                esc: ::core::array::from_fn(|i| <EscReport as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.esc[i],
-                )),
+                esc: ::ulog_core::typed::__private::read_array(
+                    wire,
+                    16usize,
+                    ::ulog_core::typed::Present::ALL,
+                ),
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                esc_count: <u8 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.esc_count,
-                ),
-                _padding0: [0u8; 7usize],
-                esc: ::core::array::from_fn(|i| <EscReport as ::ulog_core::typed::WireField>::to_wire(
-                    &self.esc[i],
-                )),
-            }
+        fn to_wire(&self) -> [u8; 48usize] {
+            let mut wire = [0u8; 48usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write::<
+                u8,
+            >(&mut wire, 8usize, &self.esc_count);
+            ::ulog_core::typed::__private::write_array::<
+                EscReport,
+            >(&mut wire, 16usize, &self.esc);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -477,42 +361,31 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.esc_count,
-                path,
-                base,
-                "esc_count",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_array(&self.esc, path, base, "esc", f);
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for EscStatus {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for EscStatus {
+    impl ::ulog_core::ULogMessage for EscStatus {
         const NAME: &'static str = "esc_status";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 4usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "esc_count",
                     &[],
-                    <u8 as ::ulog_core::typed::WireField>::KIND,
-                    <u8 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt8,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "_padding0",
@@ -533,7 +406,10 @@ const _: () = {
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build("esc_status", &FIELDS))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("esc_status", &FIELDS)
+                        .with_rust_name("EscStatus", false)
+                })
         }
     }
 };
@@ -561,72 +437,50 @@ pub struct VehicleAttitude {
 impl ::core::default::Default for VehicleAttitude {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        q: [<f32 as ::ulog_core::typed::WireField>::Wire; 4usize],
-        _padding0: [u8; 4usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_array_element::<f32>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleAttitude {
-        type Wire = __UlogWire;
+        type Wire = [u8; 28usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, q) == ::core::mem::offset_of!(__UlogWire, q)
-            && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 28usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                q: ::ulog_core::typed::__private::read_array(
+                    wire,
+                    8usize,
+                    ::ulog_core::typed::Present::ALL,
                 ),
-                q: ::core::array::from_fn(|i| <f32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.q[i],
-                )),
                 _padding0: [0u8; 4usize],
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                q: ::core::array::from_fn(|i| <f32 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.q[i],
-                )),
-                _padding0: [0u8; 4usize],
-            }
+        fn to_wire(&self) -> [u8; 28usize] {
+            let mut wire = [0u8; 28usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write_array::<
+                f32,
+            >(&mut wire, 8usize, &self.q);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -634,34 +488,30 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_array(&self.q, path, base, "q", f);
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for VehicleAttitude {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for VehicleAttitude {
+    impl ::ulog_core::ULogMessage for VehicleAttitude {
         const NAME: &'static str = "vehicle_attitude";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 3usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "q",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
                     ::core::option::Option::Some(4usize),
                 ),
                 ::ulog_core::typed::FieldDef::new(
@@ -677,10 +527,10 @@ const _: () = {
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build(
-                    "vehicle_attitude",
-                    &FIELDS,
-                ))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("vehicle_attitude", &FIELDS)
+                        .with_rust_name("VehicleAttitude", false)
+                })
         }
     }
 };
@@ -720,111 +570,72 @@ pub struct VehicleLocalPosition {
 impl ::core::default::Default for VehicleLocalPosition {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        x: <f32 as ::ulog_core::typed::WireField>::Wire,
-        y: <f32 as ::ulog_core::typed::WireField>::Wire,
-        z: <f32 as ::ulog_core::typed::WireField>::Wire,
-        vx: <f32 as ::ulog_core::typed::WireField>::Wire,
-        vy: <f32 as ::ulog_core::typed::WireField>::Wire,
-        vz: <f32 as ::ulog_core::typed::WireField>::Wire,
-        xy_valid: <bool as ::ulog_core::typed::WireField>::Wire,
-        _padding0: [u8; 7usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<f32>();
-        ::ulog_core::typed::__private::assert_field::<bool>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleLocalPosition {
-        type Wire = __UlogWire;
+        type Wire = [u8; 40usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, x) == ::core::mem::offset_of!(__UlogWire, x)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, y) == ::core::mem::offset_of!(__UlogWire, y)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, z) == ::core::mem::offset_of!(__UlogWire, z)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, vx)
-                == ::core::mem::offset_of!(__UlogWire, vx)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, vy)
-                == ::core::mem::offset_of!(__UlogWire, vy)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, vz)
-                == ::core::mem::offset_of!(__UlogWire, vz)
-            && <bool as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, xy_valid)
-                == ::core::mem::offset_of!(__UlogWire, xy_valid) && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 40usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
-                ),
-                x: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.x),
-                y: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.y),
-                z: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.z),
-                vx: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.vx),
-                vy: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.vy),
-                vz: <f32 as ::ulog_core::typed::WireField>::from_wire(&wire.vz),
-                xy_valid: <bool as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.xy_valid,
-                ),
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                x: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
+                y: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
+                z: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 16usize, ::ulog_core::typed::Present::ALL),
+                vx: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 20usize, ::ulog_core::typed::Present::ALL),
+                vy: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 24usize, ::ulog_core::typed::Present::ALL),
+                vz: ::ulog_core::typed::__private::read::<
+                    f32,
+                >(wire, 28usize, ::ulog_core::typed::Present::ALL),
+                xy_valid: ::ulog_core::typed::__private::read::<
+                    bool,
+                >(wire, 32usize, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 7usize],
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                x: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.x),
-                y: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.y),
-                z: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.z),
-                vx: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.vx),
-                vy: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.vy),
-                vz: <f32 as ::ulog_core::typed::WireField>::to_wire(&self.vz),
-                xy_valid: <bool as ::ulog_core::typed::WireField>::to_wire(
-                    &self.xy_valid,
-                ),
-                _padding0: [0u8; 7usize],
-            }
+        fn to_wire(&self) -> [u8; 40usize] {
+            let mut wire = [0u8; 40usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 8usize, &self.x);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 12usize, &self.y);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 16usize, &self.z);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 20usize, &self.vx);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 24usize, &self.vy);
+            ::ulog_core::typed::__private::write::<f32>(&mut wire, 28usize, &self.vz);
+            ::ulog_core::typed::__private::write::<
+                bool,
+            >(&mut wire, 32usize, &self.xy_valid);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -832,83 +643,79 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(&self.x, path, base, "x", f);
-            ::ulog_core::typed::__private::visit_field(&self.y, path, base, "y", f);
-            ::ulog_core::typed::__private::visit_field(&self.z, path, base, "z", f);
-            ::ulog_core::typed::__private::visit_field(&self.vx, path, base, "vx", f);
-            ::ulog_core::typed::__private::visit_field(&self.vy, path, base, "vy", f);
-            ::ulog_core::typed::__private::visit_field(&self.vz, path, base, "vz", f);
-            ::ulog_core::typed::__private::visit_field(
-                &self.xy_valid,
-                path,
-                base,
-                "xy_valid",
-                f,
-            );
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for VehicleLocalPosition {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for VehicleLocalPosition {
+    impl ::ulog_core::ULogMessage for VehicleLocalPosition {
         const NAME: &'static str = "vehicle_local_position";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 9usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "x",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "y",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "z",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "vx",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "vy",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "vz",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
-                    <f32 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "xy_valid",
                     &[],
-                    <bool as ::ulog_core::typed::WireField>::KIND,
-                    <bool as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Bool,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "_padding0",
@@ -923,10 +730,10 @@ const _: () = {
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build(
-                    "vehicle_local_position",
-                    &FIELDS,
-                ))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("vehicle_local_position", &FIELDS)
+                        .with_rust_name("VehicleLocalPosition", false)
+                })
         }
     }
 };

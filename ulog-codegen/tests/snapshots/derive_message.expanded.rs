@@ -1,22 +1,19 @@
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::my_ulog::typed::__private::zerocopy::FromBytes,
-        ::my_ulog::typed::__private::zerocopy::IntoBytes,
-        ::my_ulog::typed::__private::zerocopy::KnownLayout,
-        ::my_ulog::typed::__private::zerocopy::Immutable,
-        ::my_ulog::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::my_ulog::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::my_ulog::typed::WireField>::Wire,
-        _padding0: [u8; 4],
-        reports: [<EscReport as ::my_ulog::typed::WireField>::Wire; 8],
-        label: <CharArray<4> as ::my_ulog::typed::WireField>::Wire,
-        code: [u8; 2],
-    }
+    const __O0: usize = 0usize;
+    const __S0: usize = 0usize;
+    const __O1: usize = __O0 + ::my_ulog::typed::__private::wire_size::<u64>();
+    const __S1: usize = __S0 + 0usize + <u64 as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __O2: usize = __O1 + (4);
+    const __S2: usize = __S1 + 0usize + 0usize;
+    const __O3: usize = __O2
+        + (::my_ulog::typed::__private::wire_size::<EscReport>() * (8));
+    const __S3: usize = __S2 + 0usize
+        + <EscReport as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __O4: usize = __O3 + ::my_ulog::typed::__private::wire_size::<CharArray<4>>();
+    const __S4: usize = __S3 + 0usize
+        + <CharArray<4> as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __SIZE: usize = __O4 + (2);
     const _: () = {
         ::my_ulog::typed::__private::assert_field::<u64>();
         ::my_ulog::typed::__private::assert_array_element::<EscReport>();
@@ -24,99 +21,92 @@ const _: () = {
     };
     #[automatically_derived]
     impl ::my_ulog::typed::WireField for Esc {
-        type Wire = __UlogWire;
+        type Wire = [u8; __SIZE];
         const KIND: ::my_ulog::typed::FieldKind = ::my_ulog::typed::FieldKind::Nested(
-            <Self as ::my_ulog::typed::ULogMessage>::schema,
+            <Self as ::my_ulog::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
+        const IS_WIRE: bool = ::core::mem::size_of::<Self>() == __SIZE
             && ::core::mem::align_of::<Self>() == 1
             && <u64 as ::my_ulog::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp) && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0)
+            && ::core::mem::offset_of!(Self, timestamp) == __O0 && true
+            && ::core::mem::offset_of!(Self, _padding0) == __O1
             && <EscReport as ::my_ulog::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, reports)
-                == ::core::mem::offset_of!(__UlogWire, reports)
+            && ::core::mem::offset_of!(Self, reports) == __O2
             && <CharArray<4> as ::my_ulog::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, label)
-                == ::core::mem::offset_of!(__UlogWire, label) && true
-            && ::core::mem::offset_of!(Self, code)
-                == ::core::mem::offset_of!(__UlogWire, code);
+            && ::core::mem::offset_of!(Self, label) == __O3 && true
+            && ::core::mem::offset_of!(Self, code) == __O4;
+        const OPTIONAL: usize = __S4 + 0usize + 0usize;
+        type Writability = <<<::my_ulog::typed::Writable as ::my_ulog::typed::Writability>::And<
+            <u64 as ::my_ulog::typed::WireField>::Writability,
+        > as ::my_ulog::typed::Writability>::And<
+            <EscReport as ::my_ulog::typed::WireField>::Writability,
+        > as ::my_ulog::typed::Writability>::And<
+            <CharArray<4> as ::my_ulog::typed::WireField>::Writability,
+        >;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; __SIZE],
+            present: ::my_ulog::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::my_ulog::typed::WireField>::from_wire(
-                    &wire.timestamp,
+                timestamp: ::my_ulog::typed::__private::read::<
+                    u64,
+                >(
+                    wire,
+                    __O0,
+                    present.sub(__S0, <u64 as ::my_ulog::typed::WireField>::OPTIONAL),
                 ),
                 _padding0: [0u8; 4],
-                reports: ::core::array::from_fn(|i| <EscReport as ::my_ulog::typed::WireField>::from_wire(
-                    &wire.reports[i],
-                )),
-                label: <CharArray<
-                    4,
-                > as ::my_ulog::typed::WireField>::from_wire(&wire.label),
-                code: wire.code,
+                reports: ::my_ulog::typed::__private::read_array(
+                    wire,
+                    __O2,
+                    present
+                        .sub(__S2, <EscReport as ::my_ulog::typed::WireField>::OPTIONAL),
+                ),
+                label: ::my_ulog::typed::__private::read::<
+                    CharArray<4>,
+                >(
+                    wire,
+                    __O3,
+                    present
+                        .sub(
+                            __S3,
+                            <CharArray<4> as ::my_ulog::typed::WireField>::OPTIONAL,
+                        ),
+                ),
+                code: ::my_ulog::typed::__private::read_array(
+                    wire,
+                    __O4,
+                    ::my_ulog::typed::Present::ALL,
+                ),
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::my_ulog::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                _padding0: [0u8; 4],
-                reports: ::core::array::from_fn(|i| <EscReport as ::my_ulog::typed::WireField>::to_wire(
-                    &self.reports[i],
-                )),
-                label: <CharArray<
-                    4,
-                > as ::my_ulog::typed::WireField>::to_wire(&self.label),
-                code: self.code,
-            }
+        fn to_wire(&self) -> [u8; __SIZE] {
+            let mut wire = [0u8; __SIZE];
+            ::my_ulog::typed::__private::write::<u64>(&mut wire, __O0, &self.timestamp);
+            ::my_ulog::typed::__private::write_array::<
+                EscReport,
+            >(&mut wire, __O2, &self.reports);
+            ::my_ulog::typed::__private::write::<
+                CharArray<4>,
+            >(&mut wire, __O3, &self.label);
+            ::my_ulog::typed::__private::write_array::<u8>(&mut wire, __O4, &self.code);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(&str, ::my_ulog::typed::__private::Value<'_>),
         ) {
-            let base = path.len();
-            ::my_ulog::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::my_ulog::typed::__private::visit_array(
-                &self.reports,
-                path,
-                base,
-                "esc",
-                f,
-            );
-            ::my_ulog::typed::__private::visit_field(
-                &self.label,
-                path,
-                base,
-                "label",
-                f,
-            );
-            ::my_ulog::typed::__private::visit_chars(
-                &self.code,
-                false,
-                path,
-                base,
-                "code",
-                f,
-            );
+            <Self as ::my_ulog::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::my_ulog::typed::ArrayElement for Esc {}
     #[automatically_derived]
-    impl ::my_ulog::typed::ULogMessage for Esc {
+    impl ::my_ulog::ULogMessage for Esc {
         const NAME: &'static str = "esc_status";
         fn schema() -> &'static ::my_ulog::typed::Schema {
             static FIELDS: [::my_ulog::typed::FieldDef; 5usize] = [
@@ -158,7 +148,35 @@ const _: () = {
             static SCHEMA: ::my_ulog::typed::__private::OnceLock<
                 ::my_ulog::typed::Schema,
             > = ::my_ulog::typed::__private::OnceLock::new();
-            SCHEMA.get_or_init(|| ::my_ulog::typed::Schema::build("esc_status", &FIELDS))
+            SCHEMA
+                .get_or_init(|| {
+                    ::my_ulog::typed::Schema::build("esc_status", &FIELDS)
+                        .with_rust_name("Esc", false)
+                })
+        }
+        fn visit_fields_at(
+            &self,
+            path: &mut ::std::string::String,
+            f: &mut dyn ::core::ops::FnMut(&str, ::my_ulog::typed::__private::Value<'_>),
+        ) {
+            let base = path.len();
+            ::my_ulog::typed::__private::visit_field::<
+                u64,
+            >(&self.timestamp, path, base, "timestamp", f);
+            ::my_ulog::typed::__private::visit_array::<
+                EscReport,
+            >(&self.reports, path, base, "esc", f);
+            ::my_ulog::typed::__private::visit_field::<
+                CharArray<4>,
+            >(&self.label, path, base, "label", f);
+            ::my_ulog::typed::__private::visit_chars(
+                &self.code,
+                false,
+                path,
+                base,
+                "code",
+                f,
+            );
         }
     }
 };

@@ -1,9 +1,9 @@
 const _: () = {
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogTopics for Topics {
+    impl ::ulog_core::ULogTopics for Topics {
         const NAMES: &'static [&'static str] = &[
-            <VehicleAttitude as ::ulog_core::typed::ULogMessage>::NAME,
-            <EscStatus as ::ulog_core::typed::ULogMessage>::NAME,
+            <VehicleAttitude as ::ulog_core::ULogMessage>::NAME,
+            <EscStatus as ::ulog_core::ULogMessage>::NAME,
         ];
         fn plan(
             variant: usize,

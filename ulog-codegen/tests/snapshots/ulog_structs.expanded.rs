@@ -26,95 +26,60 @@ pub struct VehicleAttitude {
 impl ::core::default::Default for VehicleAttitude {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        timestamp: <u64 as ::ulog_core::typed::WireField>::Wire,
-        q: [<f32 as ::ulog_core::typed::WireField>::Wire; 4usize],
-        r#type: <u8 as ::ulog_core::typed::WireField>::Wire,
-        name: <::ulog_core::typed::CharArray<
-            3usize,
-        > as ::ulog_core::typed::WireField>::Wire,
-        _padding0: [u8; 4usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_field::<u64>();
-        ::ulog_core::typed::__private::assert_array_element::<f32>();
-        ::ulog_core::typed::__private::assert_field::<u8>();
-        ::ulog_core::typed::__private::assert_field::<
-            ::ulog_core::typed::CharArray<3usize>,
-        >();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleAttitude {
-        type Wire = __UlogWire;
+        type Wire = [u8; 32usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <u64 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, timestamp)
-                == ::core::mem::offset_of!(__UlogWire, timestamp)
-            && <f32 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, q) == ::core::mem::offset_of!(__UlogWire, q)
-            && <u8 as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, r#type)
-                == ::core::mem::offset_of!(__UlogWire, r#type)
-            && <::ulog_core::typed::CharArray<
-                3usize,
-            > as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, name)
-                == ::core::mem::offset_of!(__UlogWire, name) && true
-            && ::core::mem::offset_of!(Self, _padding0)
-                == ::core::mem::offset_of!(__UlogWire, _padding0);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 32usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.timestamp,
+                timestamp: ::ulog_core::typed::__private::read::<
+                    u64,
+                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
+                q: ::ulog_core::typed::__private::read_array(
+                    wire,
+                    8usize,
+                    ::ulog_core::typed::Present::ALL,
                 ),
-                q: ::core::array::from_fn(|i| <f32 as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.q[i],
-                )),
-                r#type: <u8 as ::ulog_core::typed::WireField>::from_wire(&wire.r#type),
-                name: <::ulog_core::typed::CharArray<
-                    3usize,
-                > as ::ulog_core::typed::WireField>::from_wire(&wire.name),
+                r#type: ::ulog_core::typed::__private::read::<
+                    u8,
+                >(wire, 24usize, ::ulog_core::typed::Present::ALL),
+                name: ::ulog_core::typed::__private::read::<
+                    ::ulog_core::typed::CharArray<3usize>,
+                >(wire, 25usize, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 4usize],
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                timestamp: <u64 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.timestamp,
-                ),
-                q: ::core::array::from_fn(|i| <f32 as ::ulog_core::typed::WireField>::to_wire(
-                    &self.q[i],
-                )),
-                r#type: <u8 as ::ulog_core::typed::WireField>::to_wire(&self.r#type),
-                name: <::ulog_core::typed::CharArray<
-                    3usize,
-                > as ::ulog_core::typed::WireField>::to_wire(&self.name),
-                _padding0: [0u8; 4usize],
-            }
+        fn to_wire(&self) -> [u8; 32usize] {
+            let mut wire = [0u8; 32usize];
+            ::ulog_core::typed::__private::write::<
+                u64,
+            >(&mut wire, 0usize, &self.timestamp);
+            ::ulog_core::typed::__private::write_array::<
+                f32,
+            >(&mut wire, 8usize, &self.q);
+            ::ulog_core::typed::__private::write::<u8>(&mut wire, 24usize, &self.r#type);
+            ::ulog_core::typed::__private::write::<
+                ::ulog_core::typed::CharArray<3usize>,
+            >(&mut wire, 25usize, &self.name);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -122,65 +87,47 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_field(
-                &self.timestamp,
-                path,
-                base,
-                "timestamp",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_array(&self.q, path, base, "q", f);
-            ::ulog_core::typed::__private::visit_field(
-                &self.r#type,
-                path,
-                base,
-                "type",
-                f,
-            );
-            ::ulog_core::typed::__private::visit_field(
-                &self.name,
-                path,
-                base,
-                "name",
-                f,
-            );
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for VehicleAttitude {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for VehicleAttitude {
+    impl ::ulog_core::ULogMessage for VehicleAttitude {
         const NAME: &'static str = "vehicle_attitude";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 5usize] = [
                 ::ulog_core::typed::FieldDef::new(
                     "timestamp",
                     &[],
-                    <u64 as ::ulog_core::typed::WireField>::KIND,
-                    <u64 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt64,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "q",
                     &[],
-                    <f32 as ::ulog_core::typed::WireField>::KIND,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Float,
+                    ),
                     ::core::option::Option::Some(4usize),
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "type",
                     &[],
-                    <u8 as ::ulog_core::typed::WireField>::KIND,
-                    <u8 as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::UInt8,
+                    ),
+                    ::core::option::Option::None,
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "name",
                     &[],
-                    <::ulog_core::typed::CharArray<
-                        3usize,
-                    > as ::ulog_core::typed::WireField>::KIND,
-                    <::ulog_core::typed::CharArray<
-                        3usize,
-                    > as ::ulog_core::typed::WireField>::COUNT,
+                    ::ulog_core::typed::FieldKind::Basic(
+                        ::ulog_core::typed::__private::BasicType::Char,
+                    ),
+                    ::core::option::Option::Some(3usize),
                 ),
                 ::ulog_core::typed::FieldDef::new(
                     "_padding0",
@@ -195,10 +142,10 @@ const _: () = {
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
             SCHEMA
-                .get_or_init(|| ::ulog_core::typed::Schema::build(
-                    "vehicle_attitude",
-                    &FIELDS,
-                ))
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("vehicle_attitude", &FIELDS)
+                        .with_rust_name("VehicleAttitude", false)
+                })
         }
     }
 };
@@ -222,56 +169,43 @@ pub struct Pair {
 impl ::core::default::Default for Pair {
     /// Every field zero.
     fn default() -> Self {
-        <Self as ::ulog_core::typed::ULogMessage>::zeroed()
+        <Self as ::ulog_core::ULogMessage>::zeroed()
     }
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
-    #[repr(C)]
-    #[derive(
-        ::ulog_core::typed::__private::zerocopy::FromBytes,
-        ::ulog_core::typed::__private::zerocopy::IntoBytes,
-        ::ulog_core::typed::__private::zerocopy::KnownLayout,
-        ::ulog_core::typed::__private::zerocopy::Immutable,
-        ::ulog_core::typed::__private::zerocopy::Unaligned
-    )]
-    #[zerocopy(crate = "::ulog_core::typed::__private::zerocopy")]
-    #[doc(hidden)]
-    pub struct __UlogWire {
-        both: [<VehicleAttitude as ::ulog_core::typed::WireField>::Wire; 2usize],
-    }
-    const _: () = {
-        ::ulog_core::typed::__private::assert_array_element::<VehicleAttitude>();
-    };
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for Pair {
-        type Wire = __UlogWire;
+        type Wire = [u8; 64usize];
         const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::typed::ULogMessage>::schema,
+            <Self as ::ulog_core::ULogMessage>::schema,
         );
-        const IS_WIRE: bool = ::core::mem::size_of::<Self>()
-            == ::core::mem::size_of::<__UlogWire>()
-            && ::core::mem::align_of::<Self>() == 1
-            && <VehicleAttitude as ::ulog_core::typed::WireField>::IS_WIRE
-            && ::core::mem::offset_of!(Self, both)
-                == ::core::mem::offset_of!(__UlogWire, both);
+        const IS_WIRE: bool = false;
+        const OPTIONAL: usize = 0usize;
+        type Writability = ::ulog_core::typed::Writable;
         #[inline]
-        fn from_wire(wire: &__UlogWire) -> Self {
+        fn from_wire(
+            wire: &[u8; 64usize],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = present;
             Self {
-                both: ::core::array::from_fn(|i| <VehicleAttitude as ::ulog_core::typed::WireField>::from_wire(
-                    &wire.both[i],
-                )),
+                both: ::ulog_core::typed::__private::read_array(
+                    wire,
+                    0usize,
+                    ::ulog_core::typed::Present::ALL,
+                ),
             }
         }
         #[inline]
-        fn to_wire(&self) -> __UlogWire {
-            __UlogWire {
-                both: ::core::array::from_fn(|i| <VehicleAttitude as ::ulog_core::typed::WireField>::to_wire(
-                    &self.both[i],
-                )),
-            }
+        fn to_wire(&self) -> [u8; 64usize] {
+            let mut wire = [0u8; 64usize];
+            ::ulog_core::typed::__private::write_array::<
+                VehicleAttitude,
+            >(&mut wire, 0usize, &self.both);
+            wire
         }
-        fn visit_values(
+        fn visit(
             &self,
             path: &mut ::std::string::String,
             f: &mut dyn ::core::ops::FnMut(
@@ -279,20 +213,13 @@ const _: () = {
                 ::ulog_core::typed::__private::Value<'_>,
             ),
         ) {
-            let base = path.len();
-            ::ulog_core::typed::__private::visit_array(
-                &self.both,
-                path,
-                base,
-                "both",
-                f,
-            );
+            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
         }
     }
     #[automatically_derived]
     impl ::ulog_core::typed::ArrayElement for Pair {}
     #[automatically_derived]
-    impl ::ulog_core::typed::ULogMessage for Pair {
+    impl ::ulog_core::ULogMessage for Pair {
         const NAME: &'static str = "pair";
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 1usize] = [
@@ -306,7 +233,11 @@ const _: () = {
             static SCHEMA: ::ulog_core::typed::__private::OnceLock<
                 ::ulog_core::typed::Schema,
             > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA.get_or_init(|| ::ulog_core::typed::Schema::build("pair", &FIELDS))
+            SCHEMA
+                .get_or_init(|| {
+                    ::ulog_core::typed::Schema::build("pair", &FIELDS)
+                        .with_rust_name("Pair", false)
+                })
         }
     }
 };

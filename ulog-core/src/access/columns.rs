@@ -1,13 +1,12 @@
-//! Columnar load: every column (leaf field) of a topic copied into a typed vector, one
-//! value per data message, as a table of the topic (what pyulog's `ULog(path)` builds
-//! with numpy arrays). [`ULog::load_all_columns`] loads every topic, spread over
-//! threads.
+//! Columns: every leaf field of a topic copied into a typed vector, one value per data
+//! message, as a table of the topic (what pyulog's `ULog(path)` builds with numpy
+//! arrays). [`load_columns`](crate::load_columns) loads every topic of a log.
 
-use crate::access::topic::Topic;
-use crate::error::Result;
-use crate::read::log::ULog;
-use crate::value::{Str, Value};
 use ulog_format::{BasicType, LeafKind};
+
+use crate::access::lookup::LookupError;
+use crate::access::topic::Topic;
+use crate::value::{LogText, Value};
 
 /// The values of one column, in the column's own type.
 #[derive(Debug, Clone, PartialEq)]
@@ -193,13 +192,13 @@ impl ColumnData {
             ColumnData::Char(v) => Value::Char(*v.get(i)?),
             ColumnData::Str { width, bytes } => {
                 let start = i.checked_mul(*width)?;
-                Value::Str(Str(bytes.get(start..start.checked_add(*width)?)?))
+                Value::Str(LogText(bytes.get(start..start.checked_add(*width)?)?))
             }
         })
     }
 }
 
-/// One column of a topic: its path (as [`Topic::columns`] names it) and its values.
+/// One column of a topic: its path (as [`Topic::fields`] names it) and its values.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
     /// The path, as pyulog names columns: `q[2]`, `esc[1].esc_rpm`.
@@ -217,13 +216,13 @@ impl Topic<'_, '_> {
     /// # let bytes = ulog_core::testing::sample_log();
     /// let log = ulog_core::ULog::parse(&bytes)?;
     /// let topic = log.topic("vehicle_attitude", 0)?;
-    /// let columns = topic.load_columns()?;
+    /// let columns = topic.columns()?;
     /// assert_eq!(columns[0].path, "timestamp");
     /// assert_eq!(columns[0].data.len(), topic.len());
     /// assert_eq!(columns[1].data.get(0), topic.field("q[0]")?.read(topic.payload(0).unwrap()));
-    /// # Ok::<(), ulog_core::Error>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn load_columns(&self) -> Result<Vec<Column>> {
+    pub fn columns(&self) -> Result<Vec<Column>, LookupError> {
         let mut table = Table::new(self.layout()?, self.len());
         for p in self.payloads() {
             table.push(p, |_| 0);
@@ -327,74 +326,10 @@ impl Table {
     }
 }
 
-impl ULog<'_> {
-    /// Every topic's columns ([`Topic::load_columns`]), in subscription order (one
-    /// entry per [`ULog::subscriptions`] entry), loaded on up to `threads` threads
-    /// (`0` or `1`: on this thread). Topics are spread so that each thread gets about
-    /// the same number of payload bytes.
-    ///
-    /// ```
-    /// # let bytes = ulog_core::testing::sample_log();
-    /// let log = ulog_core::ULog::parse(&bytes)?;
-    /// let one = log.load_all_columns(1);
-    /// let two = log.load_all_columns(2);
-    /// assert_eq!(one.len(), log.subscriptions().len());
-    /// assert_eq!(one, two);
-    /// # Ok::<(), ulog_core::Error>(())
-    /// ```
-    pub fn load_all_columns(&self, threads: usize) -> Vec<Result<Vec<Column>>> {
-        let topics: Vec<Topic<'_, '_>> = self.topics().collect();
-        if threads <= 1 || topics.len() <= 1 {
-            return topics.iter().map(Topic::load_columns).collect();
-        }
-        // Largest first, each to the thread with the least work so far.
-        let weight = |t: &Topic<'_, '_>| {
-            let row = t.layout().map_or(0, |l| l.size());
-            t.len() * (row + 16)
-        };
-        let mut order: Vec<usize> = (0..topics.len()).collect();
-        order.sort_by_key(|&i| core::cmp::Reverse(weight(&topics[i])));
-        let threads = threads.min(topics.len());
-        let mut shares: Vec<(usize, Vec<usize>)> = vec![(0, Vec::new()); threads];
-        for i in order {
-            let least = shares
-                .iter_mut()
-                .min_by_key(|(load, _)| *load)
-                .expect("at least one thread");
-            least.0 += weight(&topics[i]);
-            least.1.push(i);
-        }
-        let mut out: Vec<Option<Result<Vec<Column>>>> = (0..topics.len()).map(|_| None).collect();
-        let topics = &topics;
-        std::thread::scope(|s| {
-            let handles: Vec<_> = shares
-                .into_iter()
-                .map(|(_, share)| {
-                    s.spawn(move || {
-                        share
-                            .into_iter()
-                            .map(|i| (i, topics[i].load_columns()))
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            for h in handles {
-                // A panic in a worker is a bug of this function: pass it on.
-                let loaded = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-                for (i, columns) in loaded {
-                    out[i] = Some(columns);
-                }
-            }
-        });
-        out.into_iter()
-            .map(|c| c.expect("every topic was given to a thread"))
-            .collect()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::log::ulog::ULog;
     use crate::testing::{sample_log, LogBuilder};
 
     #[test]
@@ -403,8 +338,8 @@ mod tests {
         let log = ULog::parse(&bytes).unwrap();
         let mut checked = 0;
         for topic in log.topics() {
-            let columns = topic.load_columns().unwrap();
-            let readers = topic.columns().unwrap();
+            let columns = topic.columns().unwrap();
+            let readers = topic.fields().unwrap();
             assert_eq!(columns.len(), readers.len(), "{}", topic.name());
             for (c, r) in columns.iter().zip(&readers) {
                 assert_eq!(c.path, r.path());
@@ -449,7 +384,7 @@ mod tests {
         let log = ULog::parse(b.bytes()).unwrap();
         assert!(log.findings().is_empty(), "{:?}", log.findings());
         let topic = log.topic("t", 0).unwrap();
-        let columns = topic.load_columns().unwrap();
+        let columns = topic.columns().unwrap();
         let paths: Vec<&str> = columns.iter().map(|c| c.path.as_str()).collect();
         assert_eq!(
             paths,
@@ -493,43 +428,7 @@ mod tests {
             }
         );
         assert_eq!(columns[11].data.len(), 3);
-        assert_eq!(columns[11].data.get(1), Some(Value::Str(Str(b"x1\0"))));
+        assert_eq!(columns[11].data.get(1), Some(Value::Str(LogText(b"x1\0"))));
         assert_eq!(columns[11].data.get(3), None);
-    }
-
-    #[test]
-    fn threads_give_the_same_tables_in_subscription_order() {
-        let bytes = sample_log();
-        let log = ULog::parse(&bytes).unwrap();
-        let one = log.load_all_columns(1);
-        assert_eq!(one.len(), log.subscriptions().len());
-        for (loaded, topic) in one.iter().zip(log.topics()) {
-            assert_eq!(loaded.as_ref().unwrap(), &topic.load_columns().unwrap());
-        }
-        for threads in [0, 2, 3, 64] {
-            assert_eq!(log.load_all_columns(threads), one, "{threads} threads");
-        }
-    }
-
-    #[test]
-    fn a_topic_without_layout_is_an_error_and_others_still_load() {
-        let mut b = LogBuilder::new(1, 0);
-        b.format("good:uint64_t timestamp;float x;");
-        b.format("bad:uint64_t timestamp;missing_type y;");
-        b.subscribe(0, 0, "good");
-        b.subscribe(0, 1, "bad");
-        b.data(
-            0,
-            &[&5u64.to_le_bytes()[..], &1.5f32.to_le_bytes()].concat(),
-        );
-        let log = ULog::parse(b.bytes()).unwrap();
-        for threads in [1, 2] {
-            let all = log.load_all_columns(threads);
-            assert_eq!(all.len(), 2);
-            let good = all[0].as_ref().unwrap();
-            assert_eq!(good[1].data, ColumnData::F32(vec![1.5]));
-            let err = all[1].as_ref().unwrap_err();
-            assert!(err.to_string().contains("missing_type"), "{err}");
-        }
     }
 }

@@ -1,42 +1,126 @@
-//! Columnar load straight from a file: one pass in file order over bytes read from
-//! disk (no memory map, no index), so that the memory held is the columns themselves
-//! plus a few read buffers. On several threads, each thread reads the whole file and
-//! fills the columns of its share of the topics.
+//! [`load_columns`]: every topic of a log as typed columns, from any source, on one
+//! thread or several.
+//!
+//! From a parsed log, each topic's columns are filled from its index, topics shared
+//! between threads. From any other source the log is read in one pass, without an
+//! index, so that the memory held is the columns themselves plus a few read buffers;
+//! on several threads each thread reads the whole log and fills the columns of its
+//! share of the topics (a source that cannot be read twice, a reader, is read on one
+//! thread).
 
-use std::fs::File;
-use std::io::Read;
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::access::columns::{Column, Table};
-use crate::error::{Error, ErrorKind, Result};
+use crate::access::lookup::LookupError;
+use crate::definitions::Subscription;
+use crate::error::ReadError;
 use crate::estimate::rows_at_end;
-use crate::read::scan::{scan_range, ScanRecord, ScanSummary, ScanTopic};
+use crate::log::ulog::ULog;
+use crate::pass::driver::{DataRecord, Hand, ScanSummary};
+use crate::pass::scan::ScanOptions;
+use crate::pass::source::{drive, Inner, Source};
 
-/// The columns of one topic instance loaded by [`load_columns`] or
-/// [`load_file_columns`].
+/// The columns of one topic instance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TopicColumns {
     /// The subscription.
-    pub topic: ScanTopic,
-    /// The columns (as [`Topic::load_columns`](crate::Topic::load_columns) gives
-    /// them), or why there are none: a format that could not be laid out.
-    pub columns: Result<Vec<Column>>,
+    pub topic: Arc<Subscription>,
+    /// The columns (as [`Topic::columns`](crate::Topic::columns) gives them), or why
+    /// there are none: a format that could not be laid out.
+    pub columns: Result<Vec<Column>, LookupError>,
 }
 
-/// Every topic of a log as columns, with what the scan saw.
+/// Every topic of a log as columns, with what the pass saw.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadedColumns {
-    /// One entry per subscription, in the order of the `A` messages (topics without
+    /// One entry per subscription, in the order of their `A` messages (topics without
     /// data messages have empty columns).
     pub topics: Vec<TopicColumns>,
-    /// Header, flag bits, counts and findings of the whole file.
+    /// Header, flag bits, counts and findings of the whole log.
     pub summary: ScanSummary,
+}
+
+/// Every topic's columns (leaf fields in pyulog's order, padding left out, `char[N]`
+/// as one string column), on up to [`ScanOptions::threads`] threads.
+///
+/// ```
+/// use ulog_core::{ScanOptions, Source};
+/// # let bytes = ulog_core::testing::sample_log();
+/// let log = ulog_core::ULog::parse(&bytes)?;
+/// let two = ScanOptions::default().threads(2);
+/// let indexed = ulog_core::load_columns(&log, &two)?;
+/// let one_pass = ulog_core::load_columns(Source::reader(&bytes[..]), &ScanOptions::default())?;
+/// for ((topic, a), b) in log.topics().zip(&indexed.topics).zip(&one_pass.topics) {
+///     assert_eq!(a.topic.name(), topic.name());
+///     assert_eq!(a.columns, topic.columns());
+///     assert_eq!(b.columns, a.columns);
+/// }
+/// assert_eq!(one_pass.summary, indexed.summary);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn load_columns<'s>(
+    source: impl Into<Source<'s>>,
+    options: &ScanOptions,
+) -> Result<LoadedColumns, ReadError> {
+    let source = source.into();
+    let threads = options.threads.clamp(1, 64);
+    match &source.inner {
+        Inner::Parsed(log) => return Ok(from_index(log, threads)),
+        Inner::Reader(_) => return load_one(source, options.read_ahead, u64::MAX),
+        Inner::Bytes(..) | Inner::File(_) => {}
+    }
+    let len = match &source.inner {
+        Inner::Bytes(bytes, _) => bytes.len() as u64,
+        Inner::File(path) => file_len(path)?,
+        _ => u64::MAX,
+    };
+    // Logs smaller than this per thread are not worth more threads.
+    const MIN_SHARE: u64 = 4 << 20;
+    let threads = threads.min((len / MIN_SHARE).max(1) as usize);
+    if threads == 1 {
+        return load_one(source, options.read_ahead, len);
+    }
+    load_shared(&source, len, threads, (len / 50).max(1 << 20))
+}
+
+/// The columns of a parsed log, topics shared between threads by their bytes.
+fn from_index(log: &ULog<'_>, threads: usize) -> LoadedColumns {
+    let topics: Vec<_> = log.topics().collect();
+    let costs: Vec<u64> = topics
+        .iter()
+        .map(|t| (t.len() * (t.layout().map_or(0, |l| l.size()) + 16)) as u64)
+        .collect();
+    let loaded = crate::parallel::largest_first(&costs, threads, |i| {
+        Ok::<_, core::convert::Infallible>(topics[i].columns())
+    });
+    LoadedColumns {
+        topics: topics
+            .iter()
+            .zip(loaded)
+            .map(|(t, columns)| TopicColumns {
+                topic: t.subscription().clone(),
+                columns: match columns {
+                    Some(Ok(c)) => c,
+                    // Every job runs (none can fail).
+                    _ => unreachable!("every topic is loaded"),
+                },
+            })
+            .collect(),
+        summary: ScanSummary::of(log),
+    }
+}
+
+/// The size of the file at `path`.
+pub(crate) fn file_len(path: &Path) -> Result<u64, ReadError> {
+    let meta = std::fs::metadata(path).map_err(|e| ReadError::io(e, None).in_file(path))?;
+    Ok(meta.len())
 }
 
 /// The tables of the topics one thread fills, by subscription index.
 struct Tables {
     tables: Vec<Option<Table>>,
-    /// The file's length (`u64::MAX` when unknown).
+    /// The log's length (`u64::MAX` when unknown).
     len: u64,
 }
 
@@ -49,9 +133,9 @@ impl Tables {
     }
 
     #[inline]
-    fn push(&mut self, r: &ScanRecord<'_, '_>) {
+    fn push(&mut self, r: &DataRecord<'_>) {
         let len = self.len;
-        match self.tables.get_mut(r.subscription) {
+        match self.tables.get_mut(r.topic.index()) {
             // A topic's rows are about evenly spread over the file: room for its rows
             // so far scaled to the whole file.
             Some(Some(table)) => table.push(r.payload, |rows| rows_at_end(rows, r.offset, len)),
@@ -60,16 +144,17 @@ impl Tables {
     }
 
     #[cold]
-    fn first(&mut self, r: &ScanRecord<'_, '_>) {
-        if r.subscription >= self.tables.len() {
-            self.tables.resize_with(r.subscription + 1, || None);
+    fn first(&mut self, r: &DataRecord<'_>) {
+        let sub = r.topic.index();
+        if sub >= self.tables.len() {
+            self.tables.resize_with(sub + 1, || None);
         }
         // A subscription without a layout has no table; its records are left out
         // here and its entry says why.
-        if let Some(layout) = r.layout {
+        if let Ok(layout) = r.topic.layout() {
             let mut table = Table::new(layout, 0);
             table.push(r.payload, |_| 0);
-            self.tables[r.subscription] = Some(table);
+            self.tables[sub] = Some(table);
         }
     }
 }
@@ -95,11 +180,8 @@ fn finish(summary: ScanSummary, shares: Vec<Tables>) -> LoadedColumns {
         .zip(joined)
         .map(|(topic, table)| TopicColumns {
             topic: topic.clone(),
-            columns: match (&topic.layout, table) {
-                (Err(e), _) => Err(Error::new(
-                    ErrorKind::Layout(e.clone()),
-                    topic.subscribed_at,
-                )),
+            columns: match (topic.layout(), table) {
+                (Err(e), _) => Err(LookupError::layout(topic, e)),
                 (Ok(_), Some(table)) => Ok(table.finish()),
                 (Ok(layout), None) => Ok(Table::new(layout, 0).finish()),
             },
@@ -108,63 +190,32 @@ fn finish(summary: ScanSummary, shares: Vec<Tables>) -> LoadedColumns {
     LoadedColumns { topics, summary }
 }
 
-/// Every topic's columns, read in one pass from `src` (the whole file, from its
-/// first byte).
-///
-/// ```
-/// # let bytes = ulog_core::testing::sample_log();
-/// let loaded = ulog_core::load_columns(&bytes[..])?;
-/// let log = ulog_core::ULog::parse(&bytes)?;
-/// for (topic, loaded) in log.topics().zip(&loaded.topics) {
-///     assert_eq!(loaded.topic.name, topic.name());
-///     assert_eq!(loaded.columns.as_ref().ok(), topic.load_columns().as_ref().ok());
-/// }
-/// # Ok::<(), ulog_core::Error>(())
-/// ```
-pub fn load_columns<R: Read>(src: R) -> Result<LoadedColumns> {
-    load_one(src, u64::MAX)
-}
-
-/// [`load_columns`] on this thread, of a file of `len` bytes (`u64::MAX`: unknown).
-fn load_one<R: Read>(src: R, len: u64) -> Result<LoadedColumns> {
+/// One pass on this thread over a log of `len` bytes (`u64::MAX`: unknown).
+pub(crate) fn load_one(
+    source: Source<'_>,
+    read_ahead: bool,
+    len: u64,
+) -> Result<LoadedColumns, ReadError> {
     let mut tables = Tables::new(len);
-    let summary = scan_range(src, u64::MAX, |r| {
+    let summary = drive(source, read_ahead, &mut |r| {
         tables.push(&r);
-        true
+        Hand::Next
     })?;
     Ok(finish(summary, vec![tables]))
 }
 
-/// Every topic's columns of the file at `path`, read on up to `threads` threads
-/// (`0` or `1`: on this one): the same result as [`load_columns`]. Each thread reads
-/// the whole file and fills the columns of its share of the topics; the shares are
-/// balanced by how many values each topic has in the first 2% of the file.
-///
-/// ```no_run
-/// let loaded = ulog_core::load_file_columns("flight.ulg", 2)?;
-/// for t in &loaded.topics {
-///     if let Ok(columns) = &t.columns {
-///         println!("{} {}: {} columns", t.topic.name, t.topic.multi_id, columns.len());
-///     }
-/// }
-/// # Ok::<(), ulog_core::Error>(())
-/// ```
-pub fn load_file_columns(path: impl AsRef<Path>, threads: usize) -> Result<LoadedColumns> {
-    let path = path.as_ref();
-    let len = file_len(path)?;
-    // Files smaller than this per thread are not worth more threads.
-    const MIN_SHARE: u64 = 4 << 20;
-    let threads = threads.clamp(1, 64).min((len / MIN_SHARE).max(1) as usize);
-    load_shared(path, len, threads, (len / 50).max(1 << 20))
-}
-
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
-    move |e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0)
-}
-
-/// The size of the file at `path`.
-pub(crate) fn file_len(path: &Path) -> Result<u64> {
-    Ok(std::fs::metadata(path).map_err(io_error(path))?.len())
+/// A source like `source` for one more pass: the same bytes, or the file opened again.
+fn again<'s>(source: &Source<'s>) -> Source<'s> {
+    match &source.inner {
+        Inner::Bytes(bytes, path) => Source {
+            inner: Inner::Bytes(bytes, *path),
+        },
+        Inner::File(path) => Source::file(path),
+        Inner::Parsed(log) => Source {
+            inner: Inner::Parsed(log),
+        },
+        Inner::Reader(_) => unreachable!("a reader is read once"),
+    }
 }
 
 /// Which thread fills which subscription's columns. Every thread keeps its own copy
@@ -178,21 +229,21 @@ struct Shares {
 }
 
 impl Shares {
-    /// Shares balanced by the work of each subscription in the sample,
-    /// largest first, each to the least loaded share.
-    fn new(bytes: &[u64], threads: usize) -> Shares {
+    /// Shares balanced by the work of each subscription in the sample, largest
+    /// first, each to the least loaded share.
+    fn new(work: &[u64], threads: usize) -> Shares {
         let mut shares = Shares {
-            owner: vec![None; bytes.len()],
+            owner: vec![None; work.len()],
             load: vec![0; threads],
             typical: 0,
         };
-        let mut order: Vec<usize> = (0..bytes.len()).collect();
-        order.sort_by_key(|&i| (core::cmp::Reverse(bytes[i]), i));
+        let mut order: Vec<usize> = (0..work.len()).collect();
+        order.sort_by_key(|&i| (core::cmp::Reverse(work[i]), i));
         for i in order {
-            shares.assign(i, bytes[i]);
+            shares.assign(i, work[i]);
         }
-        let total: u64 = bytes.iter().sum();
-        shares.typical = total / bytes.len().max(1) as u64;
+        let total: u64 = work.iter().sum();
+        shares.typical = total / work.len().max(1) as u64;
         shares
     }
 
@@ -217,17 +268,16 @@ impl Shares {
     }
 }
 
-/// Loads on `threads` threads, the shares balanced on the file's first `sample`
-/// bytes.
+/// Loads `source` (a log of `len` bytes, read as many times as there are threads) on
+/// `threads` threads, the shares balanced on its first `sample` bytes.
 pub(crate) fn load_shared(
-    path: &Path,
+    source: &Source<'_>,
     len: u64,
     threads: usize,
     sample: u64,
-) -> Result<LoadedColumns> {
-    let io = io_error(path);
+) -> Result<LoadedColumns, ReadError> {
     if threads <= 1 {
-        return load_one(File::open(path).map_err(io)?, len);
+        return load_one(again(source), false, len);
     }
     // The work of a row, in units of about a column value's: the row itself (its
     // hand-out and gathering; framing is the same for every thread) weighs about five
@@ -235,35 +285,38 @@ pub(crate) fn load_shared(
     // timing each thread of a load of the two large benchmark logs.)
     let mut work: Vec<u64> = Vec::new();
     let mut per_row: Vec<u64> = Vec::new();
-    scan_range(File::open(path).map_err(io)?, sample, |r| {
-        if r.offset < sample {
-            if r.subscription >= work.len() {
-                work.resize(r.subscription + 1, 0);
-                per_row.resize(r.subscription + 1, 0);
-            }
-            if per_row[r.subscription] == 0 {
-                let columns = r.layout.map_or(0, |l| l.columns().count()) as u64;
-                per_row[r.subscription] = 40 + 8 * columns + r.payload.len() as u64 / 4;
-            }
-            work[r.subscription] += per_row[r.subscription];
+    drive(again(source), false, &mut |r| {
+        if r.offset >= sample {
+            return Hand::Stop;
         }
-        true
+        let sub = r.topic.index();
+        if sub >= work.len() {
+            work.resize(sub + 1, 0);
+            per_row.resize(sub + 1, 0);
+        }
+        if per_row[sub] == 0 {
+            let columns = r.topic.layout().map_or(0, |l| l.columns().count()) as u64;
+            per_row[sub] = 40 + 8 * columns + r.payload.len() as u64 / 4;
+        }
+        work[sub] += per_row[sub];
+        Hand::Next
     })?;
     let shares = Shares::new(&work, threads);
-    let results: Vec<Result<(ScanSummary, Tables)>> = std::thread::scope(|s| {
+    let results: Vec<Result<(ScanSummary, Tables), ReadError>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|k| {
                 let mut shares = shares.clone();
+                let mine = again(source);
                 s.spawn(move || {
-                    let file = File::open(path).map_err(io)?;
                     let mut tables = Tables::new(len);
                     // Another thread's subscriptions are framed, not handed out.
-                    let summary = scan_range(file, u64::MAX, |r| {
-                        let mine = shares.owner(r.subscription) == k;
-                        if mine {
+                    let summary = drive(mine, false, &mut |r| {
+                        if shares.owner(r.topic.index()) == k {
                             tables.push(&r);
+                            Hand::Next
+                        } else {
+                            Hand::SkipTopic
                         }
-                        mine
                     })?;
                     Ok((summary, tables))
                 })
@@ -289,8 +342,7 @@ pub(crate) fn load_shared(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::read::log::ULog;
-    use crate::testing::sample_log;
+    use crate::testing::{sample_log, LogBuilder};
 
     /// Logs to load: the sample, and the shared corpus when it is there.
     fn logs() -> Vec<(String, Vec<u8>)> {
@@ -326,8 +378,7 @@ mod tests {
     fn same(a: &LoadedColumns, b: &LoadedColumns, what: &str) {
         assert_eq!(a.topics.len(), b.topics.len(), "{what}");
         for (x, y) in a.topics.iter().zip(&b.topics) {
-            let id = |t: &ScanTopic| (t.name.clone(), t.multi_id, t.msg_id, t.subscribed_at);
-            assert_eq!(id(&x.topic), id(&y.topic), "{what}");
+            assert_eq!(x.topic, y.topic, "{what}");
             assert_eq!(
                 format!("{:?}", x.columns),
                 format!("{:?}", y.columns),
@@ -338,42 +389,50 @@ mod tests {
     }
 
     #[test]
-    fn one_pass_and_shared_threads_load_what_the_parse_loads() {
+    fn every_source_and_thread_count_loads_what_the_index_loads() {
         let mut checked = 0;
+        let one = ScanOptions::default();
         for (name, bytes) in logs() {
             let Ok(log) = ULog::parse(&bytes) else {
-                assert!(load_columns(&bytes[..]).is_err(), "{name}");
+                let e = load_columns(&bytes, &one).unwrap_err();
+                assert_eq!(Err(e), ULog::parse(&bytes).map(|_| ()), "{name}");
                 continue;
             };
-            let indexed = log.load_all_columns(1);
-            let one = load_columns(&bytes[..]).unwrap();
-            assert_eq!(one.topics.len(), indexed.len(), "{name}");
-            for ((t, loaded), expected) in log.topics().zip(&one.topics).zip(&indexed) {
-                assert_eq!(
-                    (loaded.topic.name.as_str(), loaded.topic.multi_id),
-                    (t.name(), t.multi_id())
-                );
+            let indexed = load_columns(&log, &one).unwrap();
+            assert_eq!(indexed.topics.len(), log.subscriptions().len(), "{name}");
+            for (t, loaded) in log.topics().zip(&indexed.topics) {
+                assert_eq!(&loaded.topic, t.subscription());
                 // Compared as text: NaN values are equal there.
                 assert_eq!(
                     format!("{:?}", loaded.columns),
-                    format!("{expected:?}"),
+                    format!("{:?}", t.columns()),
                     "{name}: {}",
                     t.name()
                 );
             }
-            assert_eq!(one.summary.messages, log.message_count(), "{name}");
-            assert_eq!(one.summary.findings, log.findings(), "{name}");
+            for threads in [2, 3] {
+                let options = ScanOptions::default().threads(threads);
+                same(
+                    &load_columns(&log, &options).unwrap(),
+                    &indexed,
+                    &format!("{name}: indexed, {threads} threads"),
+                );
+            }
+            let pass = load_columns(Source::reader(&bytes[..]), &one).unwrap();
+            same(&pass, &indexed, &format!("{name}: one pass"));
+            assert_eq!(pass.summary.messages, log.message_count(), "{name}");
+            assert_eq!(pass.summary.findings, log.findings(), "{name}");
             let path = temp_file(&bytes);
             // Shares balanced on samples of every size (none: every topic is first met
-            // after it) give the same columns and findings.
+            // after it) give the same columns and findings, over the bytes and over a
+            // file read once per thread.
             let len = bytes.len() as u64;
             for (threads, sample) in [(2, 0), (2, len / 3), (3, 17), (2, len), (1, 0)] {
-                let shared = load_shared(&path, len, threads, sample).unwrap();
-                same(
-                    &shared,
-                    &one,
-                    &format!("{name}: {threads} threads, sample {sample}"),
-                );
+                let what = format!("{name}: {threads} threads, sample {sample}");
+                let over_bytes = load_shared(&Source::from(&bytes), len, threads, sample);
+                same(&over_bytes.unwrap(), &pass, &what);
+                let over_file = load_shared(&Source::file(&path), len, threads, sample);
+                same(&over_file.unwrap(), &pass, &what);
                 checked += 1;
             }
             std::fs::remove_file(&path).unwrap();
@@ -382,12 +441,47 @@ mod tests {
     }
 
     #[test]
-    fn a_file_that_is_not_ulog_or_missing_is_an_error() {
+    fn a_file_that_is_not_ulog_or_missing_is_an_error_naming_it() {
         let path = temp_file(b"PK\x03\x04 not a log at all");
-        let e = load_file_columns(&path, 2).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::NotULog { .. }), "{e}");
+        let two = ScanOptions::default().threads(2);
+        let e = load_columns(Source::file(&path), &two).unwrap_err();
+        assert!(
+            matches!(e.kind(), crate::error::ReadErrorKind::NotULog { .. }),
+            "{e}"
+        );
+        assert_eq!(e.path(), Some(path.as_path()));
         std::fs::remove_file(&path).unwrap();
-        let e = load_file_columns(&path, 2).unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::Io(_)), "{e}");
+        let e = load_columns(Source::file(&path), &two).unwrap_err();
+        assert!(
+            matches!(e.kind(), crate::error::ReadErrorKind::Io(_)),
+            "{e}"
+        );
+        assert_eq!(e.path(), Some(path.as_path()));
+    }
+
+    #[test]
+    fn a_topic_without_layout_is_an_error_and_others_still_load() {
+        let mut b = LogBuilder::new(1, 0);
+        b.format("good:uint64_t timestamp;float x;");
+        b.format("bad:uint64_t timestamp;missing_type y;");
+        b.subscribe(0, 0, "good");
+        b.subscribe(0, 1, "bad");
+        b.data(
+            0,
+            &[&5u64.to_le_bytes()[..], &1.5f32.to_le_bytes()].concat(),
+        );
+        let log = ULog::parse(b.bytes()).unwrap();
+        for threads in [1, 2] {
+            let all = load_columns(&log, &ScanOptions::default().threads(threads)).unwrap();
+            assert_eq!(all.topics.len(), 2);
+            let good = all.topics[0].columns.as_ref().unwrap();
+            assert_eq!(
+                good[1].data,
+                crate::access::columns::ColumnData::F32(vec![1.5])
+            );
+            let err = all.topics[1].columns.as_ref().unwrap_err();
+            assert!(err.to_string().contains("missing_type"), "{err}");
+            assert_eq!(err.position(), Some(log.subscriptions()[1].offset()));
+        }
     }
 }

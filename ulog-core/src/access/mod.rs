@@ -1,6 +1,8 @@
-//! Access to a parsed log: topics, fields by path, typed values, bindings.
-pub mod columns;
-pub mod load;
-pub mod numeric;
-pub mod topic;
-pub mod typed;
+//! Access to a log's values: a topic of a parsed log and its fields by path, numbers
+//! read in rows and blocks, columns.
+pub(crate) mod columns;
+pub(crate) mod field;
+pub(crate) mod load;
+pub(crate) mod lookup;
+pub(crate) mod numeric;
+pub(crate) mod topic;

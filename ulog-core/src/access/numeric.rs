@@ -16,7 +16,7 @@
 
 use ulog_format::{BasicType, Layout};
 
-use crate::access::topic::{FieldReader, FieldShape};
+use crate::access::field::{FieldReader, FieldShape};
 
 /// Calls `$fill` with the function that reads one value of type `$ty` from its
 /// little-endian bytes (a `[u8; N]` of the type's size).
@@ -81,7 +81,7 @@ macro_rules! dispatch {
 /// use ulog_core::format::{Format, Resolver};
 /// let f = Format::parse("t:uint64_t timestamp;float[2] v;int16_t k;char[3] s;bool b;").unwrap();
 /// let layout = Resolver::default().resolve("t", &[f][..]).unwrap();
-/// let numbers = ulog_core::NumericRow::of(&layout);
+/// let numbers = ulog_core::columns::NumericRow::of(&layout);
 /// let paths: Vec<&str> = numbers.columns().iter().map(|c| c.path()).collect();
 /// assert_eq!(paths, ["timestamp", "v[0]", "v[1]", "k", "b"]);
 ///
@@ -123,7 +123,7 @@ struct Run {
 impl NumericRow {
     /// The numeric columns of `layout`, grouped by type.
     pub fn of(layout: &Layout) -> NumericRow {
-        let columns: Vec<FieldReader> = FieldReader::columns_of(layout)
+        let columns: Vec<FieldReader> = FieldReader::all(layout)
             .into_iter()
             .filter(|c| c.shape() == FieldShape::Scalar)
             .collect();
@@ -186,7 +186,7 @@ impl NumericRow {
     /// use ulog_core::format::{Format, Resolver};
     /// let f = Format::parse("t:uint64_t timestamp;int8_t k;").unwrap();
     /// let layout = Resolver::default().resolve("t", &[f][..]).unwrap();
-    /// let numbers = ulog_core::NumericRow::of(&layout);
+    /// let numbers = ulog_core::columns::NumericRow::of(&layout);
     /// let (a, b) = ([&5u64.to_le_bytes()[..], &[0xff]].concat(), 6u64.to_le_bytes());
     /// let mut values = Vec::new();
     /// numbers.read_rows(&[&a[..], &b[..]], &mut values);
@@ -262,7 +262,7 @@ impl NumericRow {
 /// use ulog_core::format::{Format, Resolver};
 /// let f = Format::parse("t:uint64_t timestamp;int16_t[2] v;").unwrap();
 /// let layout = Resolver::default().resolve("t", &[f][..]).unwrap();
-/// let mut block = ulog_core::NumericBlock::with_capacity(&layout, 2);
+/// let mut block = ulog_core::columns::NumericBlock::with_capacity(&layout, 2);
 /// let payload = |t: u64, a: i16, b: i16| -> Vec<u8> {
 ///     [&t.to_le_bytes()[..], &a.to_le_bytes(), &b.to_le_bytes()].concat()
 /// };
@@ -506,10 +506,8 @@ fn fill_rows<'p, const N: usize>(
 
 /// [`fill_rows`] over payloads of `stride` bytes that all hold every run, so that no
 /// value needs a NaN fallback (a run outside the stride would be a bug here, and
-/// panics), two adjacent columns of a run at a time: one load of both. (Against one
-/// column at a time, a whole-process decode of every value of the ≈300 MB logs of
-/// `bench/`, `ours decode-mmap`, took about 0.9× the time on x86_64, where the
-/// compiler converts two `float`s with one instruction.)
+/// panics), two adjacent columns of a run at a time: one load of both, and on x86_64
+/// one conversion of two `float`s (bench/README.md has what it saved).
 #[inline(always)]
 fn fill_strided<const N: usize>(
     runs: &[Run],
@@ -627,7 +625,7 @@ mod tests {
             &["inner:float x;uint8_t y;uint8_t[3] _padding0;float z;"],
         );
         let numbers = NumericRow::of(&l);
-        assert_eq!(numbers.width(), FieldReader::columns_of(&l).len() - 1);
+        assert_eq!(numbers.width(), FieldReader::all(&l).len() - 1);
         for seed in 1..200 {
             let payload = bytes(l.size(), seed);
             assert!(check_against_readers(&l, &payload));

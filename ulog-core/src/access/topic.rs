@@ -1,155 +1,79 @@
-//! Generic access to a topic: its data messages, and any field by path as a typed
-//! value. A path is resolved once to an offset and a type; reading is then a load at
-//! a fixed offset.
+//! [`Topic`]: one topic instance of a parsed log, its data messages, and any field by
+//! path. A path is resolved once to an offset and a type; reading is then a load at a
+//! fixed offset.
 
 use std::sync::Arc;
 
-use ulog_format::{BasicType, Layout, LayoutType, LeafKind};
+use ulog_format::{BasicType, Layout, LayoutType};
 
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::framing::MSG_HEADER_LEN;
-use crate::read::log::{Subscription, ULog};
-use crate::read::offsets::MessageOffsets;
-use crate::read::timestamp::{TimestampField, Unwrapper};
-use crate::value::{Array, Str, Value};
+use crate::access::field::{FieldReader, FieldShape};
+use crate::access::lookup::{LookupError, TopicNotFound};
+use crate::bytes::data_payload_at;
+use crate::definitions::timestamp::{TimestampField, Unwrapper};
+use crate::definitions::Subscription;
+use crate::log::offsets::{MessageOffsets, OffsetsIter};
+use crate::log::ulog::ULog;
 
 /// One topic instance of a log (a subscription and its data messages).
 #[derive(Clone, Copy)]
 pub struct Topic<'l, 'a> {
     log: &'l ULog<'a>,
-    sub: &'l Subscription,
-}
-
-/// What a resolved field path reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FieldShape {
-    /// One value.
-    Scalar,
-    /// A whole array of `n` values.
-    Array(usize),
-    /// A `char[n]` string.
-    String(usize),
-}
-
-/// A field path resolved against a topic's layout: read it from any payload of that
-/// topic with [`FieldReader::read`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FieldReader {
-    path: String,
-    offset: usize,
-    ty: BasicType,
-    shape: FieldShape,
-}
-
-impl FieldReader {
-    /// The path it was resolved from.
-    pub fn path(&self) -> &str {
-        &self.path
-    }
-
-    /// Byte offset in the payload.
-    pub fn offset(&self) -> usize {
-        self.offset
-    }
-
-    /// The basic (element) type.
-    pub fn ty(&self) -> BasicType {
-        self.ty
-    }
-
-    /// Scalar, array or string.
-    pub fn shape(&self) -> FieldShape {
-        self.shape
-    }
-
-    #[inline]
-    fn size(&self) -> usize {
-        match self.shape {
-            FieldShape::Scalar => self.ty.size(),
-            FieldShape::Array(n) | FieldShape::String(n) => n * self.ty.size(),
-        }
-    }
-
-    /// The field's value in `payload`; `None` if the payload is too short (a field in
-    /// omitted trailing padding).
-    #[inline]
-    pub fn read<'a>(&self, payload: &'a [u8]) -> Option<Value<'a>> {
-        let b = payload.get(self.offset..self.offset + self.size())?;
-        Some(match self.shape {
-            FieldShape::Scalar => Value::read_scalar(self.ty, b),
-            FieldShape::Array(_) => Value::Array(Array::new(self.ty, b)),
-            FieldShape::String(_) => Value::Str(Str(b)),
-        })
-    }
-
-    /// The field as `f64` (numbers and booleans).
-    #[inline]
-    pub fn read_f64(&self, payload: &[u8]) -> Option<f64> {
-        if self.shape != FieldShape::Scalar {
-            return None;
-        }
-        let b = payload.get(self.offset..self.offset + self.ty.size())?;
-        Value::read_scalar(self.ty, b).as_f64()
-    }
+    sub: &'l Arc<Subscription>,
 }
 
 impl<'l, 'a> Topic<'l, 'a> {
-    pub(crate) fn new(log: &'l ULog<'a>, sub: &'l Subscription) -> Topic<'l, 'a> {
-        Topic { log, sub }
+    /// The log it is of.
+    pub fn log(&self) -> &'l ULog<'a> {
+        self.log
+    }
+
+    /// Its subscription (name, instance, msg_id, layout, where it was subscribed).
+    pub fn subscription(&self) -> &'l Arc<Subscription> {
+        self.sub
     }
 
     /// The topic (format) name.
     pub fn name(&self) -> &'l str {
-        &self.sub.name
+        self.sub.name()
     }
 
     /// The instance number.
     pub fn multi_id(&self) -> u8 {
-        self.sub.multi_id
-    }
-
-    /// The msg_id of its (first) subscription.
-    pub fn msg_id(&self) -> u16 {
-        self.sub.msg_id
-    }
-
-    /// Byte offset of the subscription message.
-    pub fn subscription_offset(&self) -> u64 {
-        self.sub.offset
+        self.sub.multi_id()
     }
 
     /// The layout of the topic's format, or why there is none.
-    pub fn layout(&self) -> Result<&'l Arc<Layout>> {
+    pub fn layout(&self) -> Result<&'l Arc<Layout>, LookupError> {
         self.sub
-            .layout
-            .as_ref()
-            .map_err(|e| Error::new(ErrorKind::Layout(e.clone()), self.sub.offset))
+            .layout()
+            .map_err(|e| LookupError::layout(self.sub, e))
     }
 
     /// Number of data messages.
     pub fn len(&self) -> usize {
-        self.sub.records.len()
+        self.log.index(self.sub.index()).offsets.len()
     }
 
     /// Whether the topic has no data messages.
     pub fn is_empty(&self) -> bool {
-        self.sub.records.is_empty()
+        self.len() == 0
     }
 
     /// Byte offsets of the data messages (of their 3-byte headers), in file order.
     pub fn message_offsets(&self) -> MessageOffsets<'l> {
-        self.sub.records.view()
+        self.log.index(self.sub.index()).offsets.view()
     }
 
     /// The payload of data message `i` (after the msg_id).
     pub fn payload(&self, i: usize) -> Option<&'a [u8]> {
+        let data = self.log.data();
         self.message_offsets()
             .get(i)
-            .map(|o| payload_at(self.log.data(), o))
+            .map(|o| data_payload_at(data, o))
     }
 
     /// The payloads of every data message, in file order, borrowed from the file.
-    pub fn payloads(&self) -> impl ExactSizeIterator<Item = &'a [u8]> + 'l {
+    pub fn payloads(&self) -> Payloads<'l, 'a> {
         self.payloads_in(0..self.len())
     }
 
@@ -157,44 +81,36 @@ impl<'l, 'a> Topic<'l, 'a> {
     ///
     /// # Panics
     /// If `rows` is out of bounds, as slicing is.
-    pub fn payloads_in(
-        &self,
-        rows: core::ops::Range<usize>,
-    ) -> impl ExactSizeIterator<Item = &'a [u8]> + 'l {
-        let data = self.log.data();
-        self.message_offsets()
-            .slice(rows)
-            .iter()
-            .map(move |o| payload_at(data, o))
+    pub fn payloads_in(&self, rows: core::ops::Range<usize>) -> Payloads<'l, 'a> {
+        let offsets = self.message_offsets().slice(rows).iter();
+        Payloads {
+            data: self.log.data(),
+            ahead: offsets.clone(),
+            offsets,
+            span: 0,
+        }
     }
 
     /// Where the timestamp field is, if the format has one.
     pub fn timestamp_field(&self) -> Option<TimestampField> {
-        self.sub.timestamp
+        self.sub.timestamp_field()
     }
 
     /// The timestamp of every data message in microseconds, narrow (version 0)
     /// timestamps unwrapped; empty if the format has no timestamp.
     pub fn timestamps(&self) -> Vec<u64> {
-        let mut u = Unwrapper::new(self.sub.timestamp);
+        let mut u = Unwrapper::new(self.sub.timestamp_field());
         self.payloads().filter_map(|p| u.push(p)).collect()
     }
 
     /// Resolves a field path (`timestamp`, `q`, `q[2]`, `esc[3].esc_rpm`) once, to read
     /// it from every payload.
-    pub fn field(&self, path: &str) -> Result<FieldReader> {
+    pub fn field(&self, path: &str) -> Result<FieldReader, LookupError> {
         let layout = self.layout()?;
-        let not_found = || {
-            let suggestion =
-                crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str()));
-            Error::new(
-                ErrorKind::FieldNotFound {
-                    topic: self.sub.name.clone(),
-                    path: path.to_owned(),
-                    suggestion,
-                },
-                self.sub.offset,
-            )
+        let not_found = || LookupError::Field {
+            topic: self.name().to_owned(),
+            path: path.to_owned(),
+            closest: crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str())),
         };
         let f = layout.find(path).ok_or_else(not_found)?;
         let ty = match f.ty {
@@ -217,59 +133,108 @@ impl<'l, 'a> Topic<'l, 'a> {
         })
     }
 
-    /// Readers for every column (leaf field, padding left out) in pyulog's order:
+    /// Readers for every leaf field (padding left out) in pyulog's column order:
     /// arrays element by element, `char[N]` as one string.
-    pub fn columns(&self) -> Result<Vec<FieldReader>> {
-        Ok(FieldReader::columns_of(self.layout()?))
+    pub fn fields(&self) -> Result<Vec<FieldReader>, LookupError> {
+        Ok(FieldReader::all(self.layout()?))
     }
 }
 
-impl FieldReader {
-    /// Readers for every column of `layout`, as [`Topic::columns`] gives them: for
-    /// payloads met without a parsed log (the stream reader's subscriptions), resolved
-    /// once per subscription.
-    ///
-    /// ```
-    /// let layout = ulog_core::format::Resolver::default()
-    ///     .resolve("t", &[ulog_core::format::Format::parse("t:uint64_t timestamp;float[2] v;").unwrap()][..])
-    ///     .unwrap();
-    /// let paths: Vec<String> = ulog_core::FieldReader::columns_of(&layout)
-    ///     .iter()
-    ///     .map(|c| c.path().to_owned())
-    ///     .collect();
-    /// assert_eq!(paths, ["timestamp", "v[0]", "v[1]"]);
-    /// ```
-    pub fn columns_of(layout: &Layout) -> Vec<FieldReader> {
-        layout
-            .columns()
-            .map(|leaf| FieldReader {
-                path: leaf.path.clone(),
-                offset: leaf.offset,
-                ty: leaf.ty,
-                shape: if leaf.kind == LeafKind::String {
-                    FieldShape::String(leaf.count)
-                } else {
-                    FieldShape::Scalar
-                },
-            })
-            .collect()
+/// The payloads of a topic's data messages, in file order, borrowed from the file
+/// ([`Topic::payloads`], [`Topic::payloads_in`]).
+#[derive(Debug, Clone)]
+pub struct Payloads<'l, 'a> {
+    data: &'a [u8],
+    offsets: OffsetsIter<'l>,
+    /// The offsets of the rows to ask the cache for, `rows` ahead of `offsets`.
+    ahead: OffsetsIter<'l>,
+    /// Bytes to ask for from each (0: none).
+    span: usize,
+}
+
+impl Payloads<'_, '_> {
+    /// Asks the processor for each payload `rows` rows before it is handed out. A
+    /// topic's messages are scattered over the file, between those of the other
+    /// topics: a loop over one topic's payloads that does little with each waits for
+    /// memory at every row otherwise (BENCHMARKS.md has what it saves for the CSV
+    /// export).
+    pub fn prefetch(mut self, rows: usize) -> Self {
+        let first = self.offsets.clone().next();
+        self.span = first.map_or(0, |o| {
+            let o = o as usize;
+            crate::bytes::MESSAGE_HEADER_SIZE + usize::from(crate::bytes::u16_at(self.data, o))
+        });
+        self.ahead = self.offsets.clone();
+        for _ in 0..rows {
+            self.ahead.next();
+        }
+        self
     }
 }
+
+impl<'a> Iterator for Payloads<'_, 'a> {
+    type Item = &'a [u8];
+
+    #[inline]
+    fn next(&mut self) -> Option<&'a [u8]> {
+        let o = self.offsets.next()?;
+        if self.span > 0 {
+            if let Some(a) = self.ahead.next() {
+                crate::audited::prefetch_span(self.data, a as usize, self.span);
+            }
+        }
+        Some(data_payload_at(self.data, o))
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.offsets.size_hint()
+    }
+}
+
+impl ExactSizeIterator for Payloads<'_, '_> {}
 
 impl core::fmt::Debug for Topic<'_, '_> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Topic")
-            .field("name", &self.sub.name)
-            .field("multi_id", &self.sub.multi_id)
-            .field("msg_id", &self.sub.msg_id)
-            .field("messages", &self.sub.records.len())
+            .field("name", &self.name())
+            .field("multi_id", &self.multi_id())
+            .field("msg_id", &self.sub.msg_id())
+            .field("messages", &self.len())
             .finish()
     }
 }
 
-fn payload_at(data: &[u8], offset: u64) -> &[u8] {
-    let o = offset as usize;
-    let size = u16::from_le_bytes([data[o], data[o + 1]]) as usize;
-    // Skip the message header and the 2-byte msg_id.
-    &data[o + MSG_HEADER_LEN + 2..o + MSG_HEADER_LEN + size]
+impl<'a> ULog<'a> {
+    /// Every topic instance (one per subscription), in subscription order.
+    pub fn topics(&self) -> impl ExactSizeIterator<Item = Topic<'_, 'a>> {
+        self.subscriptions()
+            .iter()
+            .map(move |sub| Topic { log: self, sub })
+    }
+
+    /// The topic of subscription `index` (an index into [`ULog::subscriptions`]).
+    ///
+    /// # Panics
+    /// If there is no such subscription.
+    pub fn topic_at(&self, index: usize) -> Topic<'_, 'a> {
+        Topic {
+            log: self,
+            sub: &self.subscriptions()[index],
+        }
+    }
+
+    /// Topic `name`, instance `multi_id`. An error says what the log has instead:
+    /// the instances of `name`, or the closest topic names.
+    pub fn topic(&self, name: &str, multi_id: u8) -> Result<Topic<'_, 'a>, LookupError> {
+        self.topics()
+            .find(|t| t.name() == name && t.multi_id() == multi_id)
+            .ok_or_else(|| LookupError::Topic(TopicNotFound::in_log(self, name, Some(multi_id))))
+    }
+
+    /// Every instance of topic `name`, by multi_id (empty when the log has none).
+    pub fn topic_instances(&self, name: &str) -> Vec<Topic<'_, 'a>> {
+        let mut v: Vec<_> = self.topics().filter(|t| t.name() == name).collect();
+        v.sort_by_key(|t| t.multi_id());
+        v
+    }
 }

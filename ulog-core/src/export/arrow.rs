@@ -20,9 +20,12 @@ use arrow_array::{
 use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef};
 use ulog_format::{BasicType, LayoutField, LayoutType};
 
-use crate::access::topic::{FieldShape, Topic};
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::offsets::MessageOffsets;
+use super::error::{ExportError, ExportErrorKind};
+use crate::access::field::FieldShape;
+use crate::access::topic::Topic;
+
+type Result<T, E = ExportError> = core::result::Result<T, E>;
+use crate::log::offsets::MessageOffsets;
 
 use super::{latin1, Options};
 
@@ -200,7 +203,7 @@ impl TopicTable {
             }
         };
         let (fields, columns) = if options.flatten {
-            let mut readers = topic.columns()?;
+            let mut readers = topic.fields()?;
             // pyulog's tables (and ulog2csv) put `timestamp` first.
             if let Some(i) = readers.iter().position(|r| r.path() == "timestamp") {
                 let t = readers.remove(i);
@@ -259,14 +262,12 @@ impl TopicTable {
     ) -> Result<RecordBatch> {
         for (p, o) in payloads.iter().zip(offsets) {
             if p.len() < self.needed {
-                return Err(Error::new(
-                    ErrorKind::PayloadSize {
-                        topic: self.name.clone(),
-                        expected: (self.needed, self.needed),
-                        found: p.len(),
-                    },
-                    o,
-                ));
+                return Err(ExportError::new(ExportErrorKind::ShortPayload {
+                    topic: self.name.clone(),
+                    needed: self.needed,
+                    found: p.len(),
+                })
+                .at(o));
             }
         }
         let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();
@@ -281,12 +282,8 @@ impl TopicTable {
             arrays,
             &RecordBatchOptions::new().with_row_count(Some(payloads.len())),
         )
-        .map_err(|e| export_error(&e))
+        .map_err(ExportError::encoding)
     }
-}
-
-pub(crate) fn export_error(e: &dyn std::fmt::Display) -> Error {
-    Error::new(ErrorKind::Export(e.to_string()), 0)
 }
 
 /// The values of `node` at every base (a payload and the offset of the enclosing
@@ -319,7 +316,7 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
             let child = build(item, item_field.data_type(), &inner)?;
             Arc::new(
                 FixedSizeListArray::try_new(item_field.clone(), *len as i32, child, None)
-                    .map_err(|e| export_error(&e))?,
+                    .map_err(ExportError::encoding)?,
             )
         }
         Node::Struct {
@@ -334,7 +331,8 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
                 .map(|(c, f)| build(c, f.data_type(), &inner))
                 .collect::<Result<Vec<_>>>()?;
             Arc::new(
-                StructArray::try_new(fields.clone(), arrays, None).map_err(|e| export_error(&e))?,
+                StructArray::try_new(fields.clone(), arrays, None)
+                    .map_err(ExportError::encoding)?,
             )
         }
     })

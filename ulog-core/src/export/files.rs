@@ -12,11 +12,13 @@ use parquet::basic::Compression as ParquetCompression;
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 
+use super::error::{ExportError, ExportErrorKind};
 use crate::access::topic::Topic;
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::log::ULog;
 
-use super::arrow::{export_error, TopicTable};
+type Result<T, E = ExportError> = core::result::Result<T, E>;
+use crate::log::ulog::ULog;
+
+use super::arrow::TopicTable;
 use super::{file_name, selected_topics, write_metadata, Compression, Options, METADATA_FILE};
 
 /// A Parquet file written for a topic instance.
@@ -41,7 +43,7 @@ pub struct Skipped {
     /// Its instance.
     pub multi_id: u8,
     /// Why.
-    pub error: Error,
+    pub error: ExportError,
 }
 
 /// What [`write_parquet`] wrote.
@@ -53,10 +55,6 @@ pub struct Export {
     pub skipped: Vec<Skipped>,
     /// The metadata file.
     pub metadata: PathBuf,
-}
-
-fn io_error(path: &Path, e: &dyn std::fmt::Display) -> Error {
-    Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0)
 }
 
 /// Writes every selected topic instance of `log` (see [`super::selected_topics`]) to
@@ -78,7 +76,7 @@ fn io_error(path: &Path, e: &dyn std::fmt::Display) -> Error {
 /// assert!(written.files.iter().any(|f| f.path.ends_with("battery_status_1.parquet")));
 /// assert!(written.metadata.ends_with("metadata.json"));
 /// # std::fs::remove_dir_all(&dir).unwrap();
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn write_parquet(log: &ULog<'_>, dir: &Path, options: &Options) -> Result<Export> {
     write_parquet_with(log, dir, options, |_| {})
@@ -94,7 +92,7 @@ pub fn write_parquet_with(
     written: impl FnMut(&Written) + Send,
 ) -> Result<Export> {
     let topics = selected_topics(log, options)?;
-    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, &e))?;
+    std::fs::create_dir_all(dir).map_err(|e| ExportError::io(e, dir))?;
     let mut jobs = Vec::with_capacity(topics.len());
     let mut skipped = Vec::new();
     let mut names = std::collections::HashSet::new();
@@ -116,7 +114,7 @@ pub fn write_parquet_with(
             name = format!(
                 "{}_msg{}.parquet",
                 name.trim_end_matches(".parquet"),
-                topic.msg_id()
+                topic.subscription().msg_id()
             );
             names.insert(name.clone());
         }
@@ -140,47 +138,22 @@ fn write_tables(
     options: &Options,
     written: impl FnMut(&Written) + Send,
 ) -> Result<Vec<Written>> {
-    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-    use std::sync::Mutex;
-
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by_key(|&i| {
-        let (topic, ..) = &jobs[i];
-        let row = topic.layout().map_or(0, |l| l.size());
-        core::cmp::Reverse(topic.len() * (row + 16))
-    });
-    let next = AtomicUsize::new(0);
-    let failed = AtomicBool::new(false);
-    let written = Mutex::new(written);
-    let results: Mutex<Vec<Option<Result<Written>>>> =
-        Mutex::new((0..jobs.len()).map(|_| None).collect());
-    let work = || loop {
-        if failed.load(Ordering::Relaxed) {
-            break;
-        }
-        let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
-            break;
-        };
+    let costs: Vec<u64> = jobs
+        .iter()
+        .map(|(topic, ..)| {
+            let row = topic.layout().map_or(0, |l| l.size());
+            (topic.len() * (row + 16)) as u64
+        })
+        .collect();
+    let written = std::sync::Mutex::new(written);
+    let results = crate::parallel::largest_first(&costs, options.threads, |i| {
         let (topic, table, path) = &jobs[i];
-        let result = write_table(topic, table, path, options);
-        match &result {
-            Ok(file) => (written.lock().unwrap_or_else(|p| p.into_inner()))(file),
-            Err(_) => failed.store(true, Ordering::Relaxed),
-        }
-        results.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(result);
-    };
-    let threads = options.threads.clamp(1, jobs.len().max(1));
-    if threads == 1 {
-        work();
-    } else {
-        std::thread::scope(|s| {
-            for _ in 0..threads {
-                s.spawn(work);
-            }
-        });
-    }
+        let file = write_table(topic, table, path, options)?;
+        (written.lock().unwrap_or_else(|p| p.into_inner()))(&file);
+        Ok(file)
+    });
     let mut files = Vec::with_capacity(jobs.len());
-    for result in results.into_inner().unwrap_or_else(|p| p.into_inner()) {
+    for result in results {
         match result {
             Some(Ok(file)) => files.push(file),
             Some(Err(e)) => return Err(e),
@@ -202,10 +175,10 @@ pub fn write_topic(topic: &Topic<'_, '_>, path: &Path, options: &Options) -> Res
 fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
     let table = TopicTable::new(topic, options)?;
     if table.schema.fields().is_empty() {
-        return Err(Error::new(
-            ErrorKind::Export(format!("topic `{}` has no field with values", topic.name())),
-            topic.subscription_offset(),
-        ));
+        return Err(ExportError::new(ExportErrorKind::NoValues {
+            topic: topic.name().to_owned(),
+        })
+        .at(topic.subscription().offset()));
     }
     Ok(table)
 }
@@ -236,7 +209,7 @@ fn write_table(
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".partial");
     let tmp = PathBuf::from(tmp);
-    let file = File::create(&tmp).map_err(|e| io_error(&tmp, &e))?;
+    let file = File::create(&tmp).map_err(|e| ExportError::io(e, &tmp))?;
     let result = (|| {
         // The schema's metadata goes in the Parquet key-value metadata (sorted), not
         // in the encoded Arrow schema, where it would be in hash order: the files are
@@ -254,7 +227,7 @@ fn write_table(
             writer.write(&batch).map_err(|e| write_error(&tmp, e))?;
         }
         writer.close().map_err(|e| write_error(&tmp, e))?;
-        std::fs::rename(&tmp, path).map_err(|e| io_error(path, &e))
+        std::fs::rename(&tmp, path).map_err(|e| ExportError::io(e, path))
     })();
     if let Err(e) = result {
         let _ = std::fs::remove_file(&tmp);
@@ -269,9 +242,26 @@ fn write_table(
 }
 
 /// A Parquet error: an I/O error about `path`, or an export error.
-fn write_error(path: &Path, e: parquet::errors::ParquetError) -> Error {
+fn write_error(path: &Path, e: parquet::errors::ParquetError) -> ExportError {
     match e {
-        parquet::errors::ParquetError::External(inner) => io_error(path, &inner),
-        e => export_error(&e),
+        parquet::errors::ParquetError::External(inner) => {
+            match inner.downcast::<std::io::Error>() {
+                Ok(io) => ExportError::io(*io, path),
+                Err(other) => ExportError::encoding(ExternalError(other)).in_file(path),
+            }
+        }
+        e => ExportError::encoding(e).in_file(path),
     }
 }
+
+/// An error Parquet passed on from elsewhere.
+#[derive(Debug)]
+struct ExternalError(Box<dyn std::error::Error + Send + Sync>);
+
+impl std::fmt::Display for ExternalError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for ExternalError {}

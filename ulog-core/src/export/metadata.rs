@@ -4,9 +4,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::log::ULog;
-use crate::read::message::KeyValue;
+use super::error::ExportError;
+use crate::log::message::KeyValue;
+use crate::log::ulog::ULog;
 use crate::value::Value;
 
 use super::latin1;
@@ -42,7 +42,7 @@ pub const METADATA_FILE: &str = "metadata.json";
 /// let json = ulog_core::export::metadata_json(&log);
 /// assert!(json.contains(r#""sys_name": "PX4""#));
 /// assert!(json.contains(r#""MPC_XY_VEL_MAX": 12.0"#));
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn metadata_json(log: &ULog<'_>) -> String {
     let mut j = Json::default();
@@ -187,9 +187,8 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
 }
 
 /// Writes [`metadata_json`] to `path`.
-pub fn write_metadata(log: &ULog<'_>, path: &Path) -> Result<()> {
-    std::fs::write(path, metadata_json(log))
-        .map_err(|e| Error::new(ErrorKind::Io(format!("{}: {e}", path.display())), 0))
+pub fn write_metadata(log: &ULog<'_>, path: &Path) -> Result<(), ExportError> {
+    std::fs::write(path, metadata_json(log)).map_err(|e| ExportError::io(e, path))
 }
 
 /// An object of key-value messages by name; a repeated name keeps its first place and

@@ -44,10 +44,11 @@
 //! let flat = Options { flatten: true, ..Options::default() };
 //! let batch = export::topic_record_batch(&topic, &flat)?;
 //! assert!(batch.schema().field_with_name("esc[1].esc_rpm").is_ok());
-//! # Ok::<(), ulog_core::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod arrow;
+mod error;
 mod files;
 mod metadata;
 #[cfg(test)]
@@ -64,8 +65,10 @@ pub use files::{write_parquet, write_parquet_with, write_topic, Export, Skipped,
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
 
 use crate::access::topic::Topic;
-use crate::error::Result;
-use crate::read::log::ULog;
+pub use error::{ExportError, ExportErrorKind};
+
+type Result<T, E = ExportError> = core::result::Result<T, E>;
+use crate::log::ulog::ULog;
 use arrow::TopicTable;
 
 /// The compression of the Parquet files.
@@ -84,7 +87,7 @@ pub struct Options {
     /// Flatten to pyulog's columns (`a.b[3].c`) instead of struct and list columns.
     pub flatten: bool,
     /// Only these topics (every instance of each); `None`: every topic. A name that is
-    /// not in the log is an error ([`crate::ErrorKind::TopicNotFound`]).
+    /// not in the log is an error ([`ExportErrorKind::Lookup`]).
     pub topics: Option<Vec<String>>,
     /// Compression of the Parquet files.
     pub compression: Compression,

@@ -9,9 +9,10 @@ use arrow_array::{Array, RecordBatch};
 use arrow_schema::DataType;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
+use super::ExportErrorKind;
 use super::*;
+use crate::access::lookup::LookupError;
 use crate::testing::LogBuilder;
-use crate::ErrorKind;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ulog-export-{}-{name}", std::process::id()));
@@ -253,7 +254,7 @@ fn nested_formats_are_structs_and_arrays_fixed_size_lists() {
         .map(|f| f.name().clone())
         .collect();
     let expected: Vec<String> = topic
-        .columns()
+        .fields()
         .unwrap()
         .iter()
         .map(|c| c.path().to_owned())
@@ -360,9 +361,9 @@ fn topic_filter_checks_names_and_skips_what_cannot_be_exported() {
     let dir = scratch("filter");
     let err = write_parquet(&log, &dir, &options).unwrap_err();
     match err.kind() {
-        ErrorKind::TopicNotFound { name, suggestion } => {
-            assert_eq!(name, "esc_statsu");
-            assert_eq!(suggestion.as_deref(), Some("esc_status"));
+        ExportErrorKind::Lookup(LookupError::Topic(missing)) => {
+            assert_eq!(missing.name, "esc_statsu");
+            assert_eq!(missing.closest, ["esc_status"]);
         }
         k => panic!("{k:?}"),
     }
@@ -407,11 +408,15 @@ fn topic_filter_checks_names_and_skips_what_cannot_be_exported() {
     assert_eq!(skipped, ["broken", "pad"]);
     assert!(matches!(
         export.skipped[0].error.kind(),
-        ErrorKind::Layout(_)
+        ExportErrorKind::Lookup(LookupError::Layout { .. })
     ));
+    assert_eq!(
+        export.skipped[0].error.position(),
+        Some(log.subscriptions()[1].offset())
+    );
     assert!(matches!(
         export.skipped[1].error.kind(),
-        ErrorKind::Export(_)
+        ExportErrorKind::NoValues { .. }
     ));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,4 +1,5 @@
-//! `CharArray<N>`: a ULog `char[N]` string held in place.
+//! `CharArray<N>`: a ULog `char[N]` string held in place; `ByteBool`: a ULog `bool` held
+//! as its byte.
 
 use core::fmt;
 
@@ -93,6 +94,49 @@ impl<const N: usize> fmt::Display for CharArray<N> {
 impl<const N: usize> From<[u8; N]> for CharArray<N> {
     fn from(bytes: [u8; N]) -> CharArray<N> {
         CharArray(bytes)
+    }
+}
+
+/// A ULog `bool` held as its byte, for bindings borrowed from payloads (a Rust `bool`
+/// cannot hold every byte a log may have): any byte but 0 is true, as in PX4.
+///
+/// ```
+/// use ulog_core::typed::ByteBool;
+/// assert!(ByteBool(2).get());
+/// assert_eq!(ByteBool::from(false), ByteBool(0));
+/// ```
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    FromBytes,
+    IntoBytes,
+    KnownLayout,
+    Immutable,
+    Unaligned,
+)]
+#[repr(transparent)]
+pub struct ByteBool(pub u8);
+
+impl ByteBool {
+    /// The value: any byte but 0 is true.
+    pub const fn get(self) -> bool {
+        self.0 != 0
+    }
+}
+
+impl From<bool> for ByteBool {
+    fn from(v: bool) -> ByteBool {
+        ByteBool(u8::from(v))
+    }
+}
+
+impl fmt::Debug for ByteBool {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&self.get(), f)
     }
 }
 

@@ -1,18 +1,20 @@
 //! `ULogMessage`: a Rust type bound to a ULog message format.
 
-use ulog_format::Layout;
+use ulog_format::{Layout, LeafKind};
 use zerocopy::{FromZeros, IntoBytes};
 
 use super::schema::Schema;
-use super::wire::WireField;
-use crate::value::Value;
+use super::wire::{Present, WireField, Writable};
+use crate::audited::WireImage;
+use crate::value::{LogText, Value};
 
 /// A Rust struct bound to a ULog message: its name, its format and the nested
 /// formats it needs, and the conversion from and to payload bytes.
 ///
 /// Derive it (`#[derive(ULogMessage)]`, feature `derive`) rather than implementing it
-/// by hand. Read logs through a [`Plan`](super::Plan), which checks a log's format
-/// against the type once and then decodes each payload.
+/// by hand. Read logs through [`ULog::read`](crate::ULog::read) or a
+/// [`Plan`](super::Plan), which check a log's format against the type once and then
+/// decode each payload.
 pub trait ULogMessage: WireField {
     /// The ULog message name (`vehicle_attitude`).
     const NAME: &'static str;
@@ -25,9 +27,10 @@ pub trait ULogMessage: WireField {
         Self::schema().layout()
     }
 
-    /// A value with every byte zero (numbers 0, `false`, empty strings).
+    /// A value with every byte zero (numbers 0, `false`, empty strings, optional
+    /// fields `Some(0)`).
     fn zeroed() -> Self {
-        Self::from_wire(&<Self::Wire as FromZeros>::new_zeroed())
+        Self::from_wire(&<Self::Wire as FromZeros>::new_zeroed(), Present::ALL)
     }
 
     /// The length of an encoded payload: the full size without trailing padding,
@@ -37,28 +40,38 @@ pub trait ULogMessage: WireField {
     }
 
     /// Appends the payload bytes of `self` (without trailing padding) to `out`.
-    fn encode_into(&self, out: &mut Vec<u8>) {
+    ///
+    /// A binding with `Option` fields cannot be encoded (`None` has no bytes): its
+    /// `Writability` is `HasOptionFields`, not `Writable`.
+    fn encode_into(&self, out: &mut Vec<u8>)
+    where
+        Self: WireField<Writability = Writable>,
+    {
         let wire = self.to_wire();
         let bytes = wire.as_bytes();
         out.extend_from_slice(&bytes[..Self::encoded_len().min(bytes.len())]);
     }
 
-    /// The payload bytes of `self`, without trailing padding.
-    fn encode(&self) -> Vec<u8> {
+    /// The payload bytes of `self`, without trailing padding (as
+    /// [`encode_into`](ULogMessage::encode_into)).
+    fn encode(&self) -> Vec<u8>
+    where
+        Self: WireField<Writability = Writable>,
+    {
         let mut out = Vec::with_capacity(Self::encoded_len());
         self.encode_into(&mut out);
         out
     }
 
     /// Calls `f` with the path and value of every leaf field, padding left out, in
-    /// the binding's order: the columns the reader's `Topic::columns` names
-    /// (`timestamp`, `q[0]`, `esc[3].esc_rpm`; a `char[N]` is one [`Value::Str`] of
-    /// all `N` bytes).
+    /// the binding's order: the fields the reader's
+    /// [`Topic::fields`](crate::Topic::fields) names (`timestamp`, `q[0]`,
+    /// `esc[3].esc_rpm`; a `char[N]` is one [`Value::Str`] of all `N` bytes). An
+    /// `Option` field that is `None` is left out.
     ///
     /// ```
     /// # #[cfg(feature = "derive")] {
-    /// use ulog_core::typed::ULogMessage;
-    /// use ulog_core::Value;
+    /// use ulog_core::ULogMessage;
     ///
     /// #[derive(ULogMessage)]
     /// #[ulog(crate = "ulog_core")]
@@ -67,12 +80,46 @@ pub trait ULogMessage: WireField {
     /// let s = Sensor { timestamp: 5, xyz: [1.5, -2.0], _padding0: [0; 3], ok: true };
     /// let mut columns = Vec::new();
     /// s.visit_fields(&mut |path, value| columns.push(format!("{path}={value}")));
-    /// assert_eq!(columns, ["timestamp=5", "xyz[0]=1.5", "xyz[1]=-2.0", "ok=1"]);
+    /// assert_eq!(columns, ["timestamp=5", "xyz[0]=1.5", "xyz[1]=-2.0", "ok=true"]);
     /// # }
     /// ```
     fn visit_fields(&self, f: &mut dyn FnMut(&str, Value<'_>)) {
         let mut path = String::new();
-        self.visit_values(&mut path, f);
+        self.visit_fields_at(&mut path, f);
+    }
+
+    /// [`visit_fields`](ULogMessage::visit_fields) with every path after `path` and a
+    /// dot (generated code overrides it for bindings whose values may lack fields).
+    #[doc(hidden)]
+    fn visit_fields_at(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        // The wire image read as the reader reads a payload: the same leaves, paths
+        // and values by construction.
+        let wire = self.to_wire();
+        visit_image(Self::layout(), wire.as_bytes(), path, f);
+    }
+}
+
+/// Calls `f` with the path (after `path` and a dot) and value of every value leaf of
+/// `layout` in `image`, an image of the layout.
+pub(crate) fn visit_image(
+    layout: &Layout,
+    image: &[u8],
+    path: &mut String,
+    f: &mut dyn FnMut(&str, Value<'_>),
+) {
+    let base = path.len();
+    for leaf in layout.columns() {
+        if base > 0 {
+            path.push('.');
+        }
+        path.push_str(&leaf.path);
+        let bytes = &image[leaf.offset..];
+        let value = match leaf.kind {
+            LeafKind::String => Value::Str(LogText(&bytes[..leaf.count])),
+            _ => Value::read_scalar(leaf.ty, bytes),
+        };
+        f(path, value);
+        path.truncate(base);
     }
 }
 
@@ -83,7 +130,8 @@ pub trait ULogMessage: WireField {
 ///
 /// ```
 /// # #[cfg(feature = "derive")] {
-/// use ulog_core::typed::{BindingVisitor, ULogMessage};
+/// use ulog_core::typed::BindingVisitor;
+/// use ulog_core::ULogMessage;
 ///
 /// #[derive(ULogMessage)]
 /// #[ulog(crate = "ulog_core")]
@@ -103,4 +151,13 @@ pub trait ULogMessage: WireField {
 pub trait BindingVisitor {
     /// Called once per binding type `T`.
     fn visit<T: ULogMessage>(&mut self);
+}
+
+/// [`BindingVisitor`] for the bindings of a module generated with views
+/// (`ulog_module!(views; …)`, `ulog codegen --views`): its `visit_views` function
+/// calls [`visit`](ViewVisitor::visit) once per struct, each one payloads can be
+/// borrowed as ([`TypedRows::views`](crate::TypedRows::views)).
+pub trait ViewVisitor {
+    /// Called once per binding type `T`.
+    fn visit<T: ULogMessage + WireImage>(&mut self);
 }

@@ -1,49 +1,69 @@
 //! Typed bindings: Rust structs bound to ULog message formats.
 //!
-//! A binding is a struct that implements [`ULogMessage`], usually through
+//! A binding is a struct that implements [`ULogMessage`](crate::ULogMessage), usually through
 //! `#[derive(ULogMessage)]` (feature `derive`), or generated from format strings
 //! (`ulog_structs!`) or from a reference log (`ulog_module!`). Its [`Schema`] holds the
 //! exact ULog format it describes, with the nested formats it uses.
 //!
 //! Reading checks a subscription's format against the binding once, making a
-//! [`Plan`]: [`PlanKind::Exact`] when the layouts are the same (a payload is copied in
-//! one go, or borrowed with [`Plan::view`]), [`PlanKind::Mapped`] when the fields lie
-//! elsewhere (a short copy list made at validation time), or a [`Mismatch`] listing
-//! every difference. Writing uses [`ULogMessage::encode`] (trailing padding left out,
-//! as PX4 does).
+//! [`Plan`]: [`PlanKind::Exact`] when every field lies where the log has it (a
+//! payload is decoded in place, or borrowed), [`PlanKind::Mapped`] when fields lie
+//! elsewhere or optional ones are absent (a short copy list made at validation time),
+//! or a [`Mismatch`] listing every difference. Writing uses
+//! [`ULogMessage::encode`](crate::ULogMessage::encode)
+//! (trailing padding left out, as PX4 does).
+//!
+//! # Fields that change across firmware
+//!
+//! - `Option<T>`: `None` when the log's format lacks the field (a field added in a
+//!   newer firmware, or removed from an older one). Such a binding reads, but cannot be
+//!   written.
+//! - `#[ulog(default)]` (the type's `Default`) or `#[ulog(default = expr)]`: the value
+//!   when the log's format lacks the field.
+//! - `#[ulog(alias = "old_name")]` (repeatable): the field renamed across firmware.
+//!
+//! # The topic a binding reads
+//!
+//! A binding reads the topic of its ULog name: `#[ulog(name = "…")]`, or else the
+//! struct's name in snake case (`VehicleLocalPosition` → `vehicle_local_position`).
+//! Give the name whenever the struct is named otherwise (a struct holding a subset of
+//! a topic's fields, `LocalPosition`): a name the log does not have is an error that
+//! lists the closest topic names and says when the name came from the struct's name.
 //!
 //! Payload bytes are little endian on every host: each field's wire image
 //! ([`WireField::Wire`]) is a `zerocopy` little-endian type of alignment 1.
 
 mod chars;
-mod error;
-mod message;
+pub(crate) mod error;
+pub(crate) mod message;
 mod plan;
+mod plans;
+pub(crate) mod rows;
+pub(crate) mod scan;
 mod schema;
-mod topics;
+pub(crate) mod topics;
 mod wire;
 
-pub use chars::CharArray;
-pub use error::{DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch};
-pub use message::{BindingVisitor, ULogMessage};
-pub use plan::{Plan, PlanKind};
-pub use schema::{FieldDef, Schema};
-pub use topics::{
-    walk, Subscription, TopicDispatcher, TopicError, TopicMessage, TopicPlan, TopicRecord,
-    ULogTopics,
+pub use crate::audited::WireImage;
+pub use chars::{ByteBool, CharArray};
+pub use error::{
+    DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch, TypedErrorKind,
 };
-pub use wire::{ArrayElement, FieldKind, WireField};
+pub use message::{BindingVisitor, ViewVisitor};
+pub use plan::{Plan, PlanKind};
+pub use schema::{Absent, FieldDef, FieldKind, Schema};
+pub use topics::TopicPlan;
+pub use wire::{ArrayElement, HasOptionFields, Present, WireField, Writability, Writable};
 
 /// `zerocopy`'s little-endian types: fields of bindings that can be borrowed as views.
 pub use zerocopy::little_endian as le;
 
-#[cfg(feature = "derive")]
-pub use ulog_derive::{ulog_module, ulog_structs, ULogMessage, ULogTopics};
-
 /// What generated code names; not a public API.
 #[doc(hidden)]
 pub mod __private {
-    pub use super::wire::{visit_array, visit_chars, visit_field};
+    pub use super::wire::{
+        read, read_array, visit_array, visit_chars, visit_field, wire_size, write, write_array,
+    };
     pub use crate::value::Value;
     pub use std::sync::OnceLock;
     pub use ulog_format::{BasicType, Layout};

@@ -2,28 +2,33 @@
 //!
 //! Validation walks the binding's fields, finds each in the log's layout by name or
 //! alias, and records one copy (log offset → binding offset, length) per field;
-//! adjacent copies are merged. When every copy lands where it came from and the sizes
-//! agree, the plan is [`PlanKind::Exact`] and a payload *is* the binding's wire image;
+//! adjacent copies are merged. When every field lies where the log has it, the plan
+//! is [`PlanKind::Exact`] and a payload's first bytes *are* the binding's wire image;
 //! otherwise it is [`PlanKind::Mapped`] and decoding runs the short copy list. No name
-//! is looked up after validation.
+//! is looked up after validation. This is the one rule every typed reader uses.
 
 use core::fmt;
 use core::marker::PhantomData;
 
 use ulog_format::{Layout, LayoutType};
-use zerocopy::{FromBytes, FromZeros, Immutable, IntoBytes, KnownLayout, Unaligned};
+use zerocopy::{FromBytes, FromZeros, IntoBytes};
 
 use super::error::{DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch};
 use super::message::ULogMessage;
-use super::schema::Schema;
-use super::wire::{FieldKind, WireField};
+use super::schema::{Absent, FieldKind, Schema};
+use super::wire::{Present, WireField};
+use crate::audited::WireImage;
 
 /// How a plan decodes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PlanKind {
-    /// The log's layout is the binding's: a payload is copied (or borrowed) whole.
+    /// Every field of the binding lies where the log has it, and the binding ends
+    /// within the log's format (it may leave out the trailing padding, or fields at
+    /// the end): a payload is decoded in place, or borrowed
+    /// ([`TypedRows::views`](crate::TypedRows::views)).
     Exact,
-    /// The fields lie elsewhere in the log's payload: each is copied from its offset.
+    /// Fields lie elsewhere in the log's payload, or the log lacks optional ones:
+    /// each is copied from its offset.
     Mapped,
 }
 
@@ -40,24 +45,54 @@ struct CopyOp {
 pub(crate) struct RawPlan {
     kind: PlanKind,
     copies: Box<[CopyOp]>,
+    /// The log's full payload size, and its size without trailing padding.
     size: usize,
     min_size: usize,
+    /// The binding's size.
+    own: usize,
+    /// Whether each optional field of the binding is in the log (empty: it has
+    /// none).
+    present: Box<[bool]>,
+    /// Why the plan is not exact.
+    why: Option<String>,
+}
+
+/// What the walk over a binding's fields collects.
+struct Walk {
+    copies: Vec<CopyOp>,
+    differences: Vec<Difference>,
+    present: Vec<bool>,
+    why: Option<String>,
 }
 
 impl RawPlan {
     pub(crate) fn new<T: ULogMessage>(file: &Layout) -> Result<RawPlan, Mismatch> {
         let schema = T::schema();
-        let mut copies = Vec::new();
-        let mut differences = Vec::new();
-        map_fields(schema, file, "", &mut copies, &mut differences);
-        if !differences.is_empty() {
+        let mut walk = Walk {
+            copies: Vec::new(),
+            differences: Vec::new(),
+            present: Vec::new(),
+            why: None,
+        };
+        map_fields(schema, file, "", 0, 0, &mut walk);
+        if !walk.differences.is_empty() {
             return Err(Mismatch {
                 message: schema.name().to_owned(),
-                differences,
+                binding: schema.rust_name().to_owned(),
+                differences: walk.differences,
                 expected_formats: schema.formats().iter().map(|f| f.to_string()).collect(),
                 found_formats: file.formats().iter().map(|f| f.to_string()).collect(),
             });
         }
+        debug_assert_eq!(walk.present.len(), T::OPTIONAL, "presence slots");
+        let own = core::mem::size_of::<T::Wire>();
+        if walk.why.is_none() && own > file.size() {
+            walk.why = Some(format!(
+                "the binding has {own} bytes, the log's format {}",
+                file.size()
+            ));
+        }
+        let mut copies = walk.copies;
         copies.sort_by_key(|c| c.dst);
         let mut merged: Vec<CopyOp> = Vec::with_capacity(copies.len());
         for c in copies {
@@ -68,13 +103,9 @@ impl RawPlan {
                 _ => merged.push(c),
             }
         }
-        let own = schema.layout();
-        let exact = file.size() == own.size()
-            && file.min_size() == own.min_size()
-            && file.size() == core::mem::size_of::<T::Wire>()
-            && merged.iter().all(|c| c.src == c.dst);
+        let all_present = walk.present.iter().all(|&p| p);
         Ok(RawPlan {
-            kind: if exact {
+            kind: if walk.why.is_none() {
                 PlanKind::Exact
             } else {
                 PlanKind::Mapped
@@ -82,6 +113,13 @@ impl RawPlan {
             copies: merged.into_boxed_slice(),
             size: file.size(),
             min_size: file.min_size(),
+            own,
+            present: if all_present {
+                Box::new([])
+            } else {
+                walk.present.into_boxed_slice()
+            },
+            why: walk.why,
         })
     }
 
@@ -95,24 +133,34 @@ impl RawPlan {
         }
     }
 
+    fn present(&self) -> Present<'_> {
+        if self.present.is_empty() {
+            Present::ALL
+        } else {
+            Present::new(&self.present)
+        }
+    }
+
+    #[inline]
     pub(crate) fn decode<T: WireField>(&self, payload: &[u8]) -> Result<T, DecodeError> {
         let len = payload.len();
         if len != self.size && len != self.min_size {
             return Err(self.length_error(len));
         }
-        if self.kind == PlanKind::Exact && len == self.size {
-            return match T::Wire::ref_from_bytes(payload) {
-                Ok(wire) => Ok(T::from_wire(wire)),
-                Err(_) => Err(self.length_error(len)),
-            };
+        if self.kind == PlanKind::Exact {
+            if let Some(image) = payload.get(..self.own) {
+                return match T::Wire::ref_from_bytes(image) {
+                    Ok(wire) => Ok(T::from_wire(wire, self.present())),
+                    Err(_) => Err(self.length_error(len)),
+                };
+            }
         }
         let mut wire = T::Wire::new_zeroed();
         let image = wire.as_mut_bytes();
         if self.kind == PlanKind::Exact {
-            match image.get_mut(..len) {
-                Some(prefix) => prefix.copy_from_slice(payload),
-                None => return Err(self.length_error(len)),
-            }
+            // The binding declares trailing padding the payload leaves out.
+            let n = len.min(image.len());
+            image[..n].copy_from_slice(&payload[..n]);
         } else {
             for c in self.copies.iter() {
                 let src = payload.get(c.src..c.src + c.len);
@@ -123,7 +171,39 @@ impl RawPlan {
                 }
             }
         }
-        Ok(T::from_wire(&wire))
+        Ok(T::from_wire(&wire, self.present()))
+    }
+
+    /// Borrows a payload as `T` (see [`Plan::view`]).
+    pub(crate) fn view<'a, T: WireField + WireImage>(
+        &self,
+        payload: &'a [u8],
+    ) -> Result<&'a T, DecodeError> {
+        const {
+            assert!(
+                T::IS_WIRE,
+                "a view needs a binding whose memory is its wire image: fields of `u8`, `i8`, `CharArray<N>`, `ulog_core::typed::le` types, arrays and nested such bindings (no `bool`, no `Option`)"
+            )
+        };
+        let len = payload.len();
+        if len != self.size && len != self.min_size {
+            return Err(self.length_error(len));
+        }
+        if let Some(why) = &self.why {
+            return Err(DecodeError {
+                kind: DecodeErrorKind::ViewNeedsExactLayout { why: why.clone() },
+                len,
+            });
+        }
+        if len < core::mem::size_of::<T>() {
+            return Err(DecodeError {
+                kind: DecodeErrorKind::ViewNeedsLongerPayload {
+                    needed: core::mem::size_of::<T>(),
+                },
+                len,
+            });
+        }
+        Ok(crate::audited::view::<T>(payload))
     }
 }
 
@@ -152,77 +232,121 @@ fn copy_field(dst: &mut [u8], src: &[u8]) {
     }
 }
 
-/// Finds every field of `schema` in `file`, pushing copies (relative to the starts of
-/// both) and differences.
+/// Finds every field of `schema` in `file` (whose fields lie from `src` in the log's
+/// payload, the binding's from `dst`), pushing copies, differences and presence.
 fn map_fields(
     schema: &Schema,
     file: &Layout,
     prefix: &str,
-    copies: &mut Vec<CopyOp>,
-    differences: &mut Vec<Difference>,
+    src: usize,
+    dst: usize,
+    walk: &mut Walk,
 ) {
     for (def, own) in schema.fields().iter().zip(schema.layout().fields()) {
         if own.is_padding() {
             continue;
         }
         let path = format!("{prefix}{}", def.name());
-        let mut difference = |kind| {
-            differences.push(Difference {
-                path: path.clone(),
-                kind,
-            })
+        let nested_slots = match def.kind() {
+            FieldKind::Nested(nested) => nested().optional_slots(),
+            FieldKind::Basic(_) => 0,
         };
         let found = core::iter::once(def.name())
             .chain(def.aliases().iter().copied())
             .find_map(|name| file.field(name).filter(|f| !f.is_padding()));
+        let optional = def.absent() != Absent::Required;
         let Some(theirs) = found else {
-            difference(DifferenceKind::MissingField);
+            if optional {
+                walk.present.push(false);
+                walk.present
+                    .extend(core::iter::repeat(false).take(nested_slots));
+                walk.why
+                    .get_or_insert_with(|| format!("field `{path}` is not in the log"));
+            } else {
+                walk.differences.push(Difference {
+                    path,
+                    kind: DifferenceKind::MissingField,
+                });
+            }
             continue;
         };
-        if own.array_len != theirs.array_len {
-            difference(DifferenceKind::ArrayLength {
-                expected: own.array_len,
-                found: theirs.array_len,
+        if optional {
+            walk.present.push(true);
+        }
+        let (from, to) = (src + theirs.offset, dst + own.offset);
+        if from != to {
+            walk.why.get_or_insert_with(|| {
+                format!(
+                    "field `{path}` is at byte {from} of the log's payload, {to} of the binding"
+                )
             });
-            continue;
+        }
+        let lengths_agree = own.array_len == theirs.array_len;
+        if !lengths_agree {
+            walk.differences.push(Difference {
+                path: path.clone(),
+                kind: DifferenceKind::ArrayLength {
+                    expected: own.array_len,
+                    found: theirs.array_len,
+                },
+            });
         }
         match (&own.ty, &theirs.ty, def.kind()) {
-            (LayoutType::Basic(a), LayoutType::Basic(b), _) if a == b => copies.push(CopyOp {
-                src: theirs.offset,
-                dst: own.offset,
-                len: own.size,
-            }),
-            (LayoutType::Nested(mine), LayoutType::Nested(other), FieldKind::Nested(nested)) => {
-                let mut inner = Vec::new();
-                let mut inner_differences = Vec::new();
-                map_fields(
-                    nested(),
-                    other,
-                    &format!("{path}."),
-                    &mut inner,
-                    &mut inner_differences,
-                );
-                if !inner_differences.is_empty() {
-                    difference(DifferenceKind::NestedFormat {
-                        expected: mine.format().to_string(),
-                        found: other.format().to_string(),
+            (LayoutType::Basic(a), LayoutType::Basic(b), _) if a == b => {
+                if lengths_agree {
+                    walk.copies.push(CopyOp {
+                        src: from,
+                        dst: to,
+                        len: own.size,
                     });
-                    differences.append(&mut inner_differences);
-                    continue;
                 }
-                for i in 0..own.array_len.unwrap_or(1) {
-                    for c in &inner {
-                        copies.push(CopyOp {
-                            src: theirs.offset + i * other.size() + c.src,
-                            dst: own.offset + i * mine.size() + c.dst,
-                            len: c.len,
+            }
+            (LayoutType::Nested(mine), LayoutType::Nested(other), FieldKind::Nested(nested)) => {
+                // The elements are compared whatever the lengths, so that every
+                // difference inside them is listed too.
+                let inner_prefix = match own.array_len {
+                    Some(_) => format!("{path}[*]."),
+                    None => format!("{path}."),
+                };
+                let mut inner = Walk {
+                    copies: Vec::new(),
+                    differences: Vec::new(),
+                    present: Vec::new(),
+                    why: None,
+                };
+                map_fields(nested(), other, &inner_prefix, 0, 0, &mut inner);
+                walk.differences.append(&mut inner.differences);
+                walk.present.append(&mut inner.present);
+                if let Some(why) = inner.why {
+                    walk.why.get_or_insert(why);
+                }
+                if lengths_agree {
+                    for i in 0..own.array_len.unwrap_or(1) {
+                        for c in &inner.copies {
+                            walk.copies.push(CopyOp {
+                                src: from + i * other.size() + c.src,
+                                dst: to + i * mine.size() + c.dst,
+                                len: c.len,
+                            });
+                        }
+                    }
+                    if other.size() != mine.size() && own.array_len.is_some() {
+                        walk.why.get_or_insert_with(|| {
+                            format!(
+                                "the elements of `{path}` have {} bytes in the log, {} in the binding",
+                                other.size(),
+                                mine.size()
+                            )
                         });
                     }
                 }
             }
-            (a, b, _) => difference(DifferenceKind::Type {
-                expected: a.name().to_owned(),
-                found: b.name().to_owned(),
+            (a, b, _) => walk.differences.push(Difference {
+                path,
+                kind: DifferenceKind::Type {
+                    expected: a.name().to_owned(),
+                    found: b.name().to_owned(),
+                },
             }),
         }
     }
@@ -233,10 +357,10 @@ fn map_fields(
 ///
 /// ```
 /// # #[cfg(feature = "derive")] {
-/// use ulog_core::typed::{Plan, PlanKind, ULogMessage};
-/// use ulog_format::{Format, Layout};
+/// use ulog_core::typed::{Plan, PlanKind};
+/// use ulog_core::format::{Format, Layout};
 ///
-/// #[derive(ULogMessage, Debug, PartialEq)]
+/// #[derive(ulog_core::ULogMessage, Debug, PartialEq)]
 /// #[ulog(crate = "ulog_core")]
 /// struct VehicleAttitude {
 ///     timestamp: u64,
@@ -286,8 +410,9 @@ impl<T> fmt::Debug for Plan<T> {
 
 impl<T: ULogMessage> Plan<T> {
     /// Checks the log's layout of a subscription against `T`: every field of `T`
-    /// must be in it, by name or alias, with the same type and array length.
-    /// Otherwise the error lists every difference.
+    /// must be in it, by name or alias, with the same type and array length, unless
+    /// `T` says the field may be absent (`Option<F>`, `#[ulog(default)]`). Otherwise
+    /// the error lists every difference.
     pub fn new(file_layout: &Layout) -> Result<Plan<T>, Mismatch> {
         RawPlan::new::<T>(file_layout).map(|raw| Plan {
             raw,
@@ -300,61 +425,42 @@ impl<T: ULogMessage> Plan<T> {
         self.raw.kind
     }
 
-    /// The number of byte ranges a mapped decode copies (1 or 0 for an exact plan of
-    /// a message without internal padding).
+    /// Why the plan is not [`Exact`](PlanKind::Exact) (`None` when it is): the first
+    /// field that lies elsewhere or is absent.
+    pub fn why_mapped(&self) -> Option<&str> {
+        self.raw.why.as_deref()
+    }
+
+    /// The number of byte ranges a mapped decode copies.
     pub fn copy_count(&self) -> usize {
         self.raw.copies.len()
     }
 
+    /// Whether each optional field of `T` (in field order, nested bindings' after the
+    /// field that holds them) is in the log.
+    pub fn present(&self) -> Vec<bool> {
+        if self.raw.present.is_empty() {
+            vec![true; T::OPTIONAL]
+        } else {
+            self.raw.present.to_vec()
+        }
+    }
+
     /// Decodes one payload (the data message after its `msg_id`). Its length must be
     /// the log format's size, with or without trailing padding.
+    #[inline]
     pub fn decode(&self, payload: &[u8]) -> Result<T, DecodeError> {
         self.raw.decode::<T>(payload)
     }
 
-    /// Decodes every payload of an iterator.
-    pub fn decode_all<'p, I>(
-        &'p self,
-        payloads: I,
-    ) -> impl Iterator<Item = Result<T, DecodeError>> + 'p
-    where
-        I: IntoIterator<Item = &'p [u8]>,
-        I::IntoIter: 'p,
-    {
-        payloads.into_iter().map(move |p| self.decode(p))
-    }
-
-    /// Borrows a payload as a `&T`, without copying. Needs an exact plan, the full
-    /// payload (trailing padding included), and a `T` whose memory is its wire image:
-    /// a `#[repr(C)]` struct of alignment-1 fields (`u8`, `i8`, `CharArray<N>`, the
-    /// `zerocopy::little_endian` types, nested such structs, arrays of these) that
-    /// also derives `zerocopy`'s `FromBytes`, `KnownLayout`, `Immutable`, `Unaligned`.
+    /// Borrows a payload as a `&T`, without copying. Needs an
+    /// [`Exact`](PlanKind::Exact) plan, a payload that holds all of `T`, and a `T`
+    /// whose memory is its wire image ([`WireImage`](super::WireImage)). For logs
+    /// written by PX4, which leaves the trailing padding out, leave it out of `T` too.
     pub fn view<'a>(&self, payload: &'a [u8]) -> Result<&'a T, DecodeError>
     where
-        T: FromBytes + KnownLayout + Immutable + Unaligned,
+        T: WireImage,
     {
-        const {
-            assert!(
-                <T as WireField>::IS_WIRE,
-                "a view needs a binding whose memory is its wire image (repr(C), alignment-1 fields)"
-            )
-        };
-        let len = payload.len();
-        if self.raw.kind != PlanKind::Exact {
-            return Err(DecodeError {
-                kind: DecodeErrorKind::ViewNeedsExactLayout,
-                len,
-            });
-        }
-        if len != self.raw.size {
-            if len == self.raw.min_size {
-                return Err(DecodeError {
-                    kind: DecodeErrorKind::ViewNeedsFullPayload,
-                    len,
-                });
-            }
-            return Err(self.raw.length_error(len));
-        }
-        T::ref_from_bytes(payload).map_err(|_| self.raw.length_error(len))
+        self.raw.view::<T>(payload)
     }
 }

@@ -2,9 +2,27 @@
 
 use std::sync::Arc;
 
-use ulog_format::{Field, Format, Layout, TypeName};
+use ulog_format::{BasicType, Field, Format, Layout, TypeName};
 
-use super::wire::FieldKind;
+/// The ULog type of one value of a field: a basic type, or a nested message.
+#[derive(Debug, Clone, Copy)]
+pub enum FieldKind {
+    /// One of the twelve basic types.
+    Basic(BasicType),
+    /// A nested message, by its schema.
+    Nested(fn() -> &'static Schema),
+}
+
+/// What a binding takes when the log's format lacks a field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Absent {
+    /// Nothing: the format does not fit (a [`Mismatch`](super::Mismatch)).
+    Required,
+    /// `None` (an `Option<T>` field).
+    None,
+    /// Its default (`#[ulog(default)]` or `#[ulog(default = …)]`).
+    Default,
+}
 
 /// One field of a binding, as the derive describes it.
 #[derive(Debug, Clone, Copy)]
@@ -13,11 +31,12 @@ pub struct FieldDef {
     aliases: &'static [&'static str],
     kind: FieldKind,
     array_len: Option<usize>,
+    absent: Absent,
 }
 
 impl FieldDef {
     /// A field named `name` in the format (also found under `aliases` when reading),
-    /// of ULog type `kind`, an array of `array_len` elements if `Some`.
+    /// of ULog type `kind`, an array of `array_len` elements if `Some`; required.
     pub const fn new(
         name: &'static str,
         aliases: &'static [&'static str],
@@ -29,7 +48,14 @@ impl FieldDef {
             aliases,
             kind,
             array_len,
+            absent: Absent::Required,
         }
+    }
+
+    /// The same field, taking `absent` when a log lacks it.
+    pub const fn when_absent(mut self, absent: Absent) -> FieldDef {
+        self.absent = absent;
+        self
     }
 
     /// The field's ULog name.
@@ -51,6 +77,21 @@ impl FieldDef {
     pub fn array_len(&self) -> Option<usize> {
         self.array_len
     }
+
+    /// What the binding takes when a log lacks the field.
+    pub fn absent(&self) -> Absent {
+        self.absent
+    }
+
+    /// The presence slots the field takes: its own when optional, then its nested
+    /// binding's.
+    pub(crate) fn slots(&self) -> usize {
+        let own = usize::from(self.absent != Absent::Required);
+        match self.kind {
+            FieldKind::Nested(schema) => own + schema().optional_slots(),
+            FieldKind::Basic(_) => own,
+        }
+    }
 }
 
 /// The ULog side of a binding: its format, the nested formats it uses, and its
@@ -61,6 +102,9 @@ pub struct Schema {
     format: Format,
     formats: Vec<Format>,
     layout: Arc<Layout>,
+    rust_name: &'static str,
+    named_after_struct: bool,
+    optional_slots: usize,
 }
 
 impl Schema {
@@ -74,7 +118,7 @@ impl Schema {
     ///
     /// ```
     /// use ulog_core::typed::{FieldDef, FieldKind, Schema};
-    /// use ulog_format::BasicType;
+    /// use ulog_core::format::BasicType;
     ///
     /// static FIELDS: [FieldDef; 2] = [
     ///     FieldDef::new("timestamp", &[], FieldKind::Basic(BasicType::UInt64), None),
@@ -135,7 +179,18 @@ impl Schema {
             format,
             formats,
             layout,
+            rust_name: name,
+            named_after_struct: false,
+            optional_slots: fields.iter().map(FieldDef::slots).sum(),
         }
+    }
+
+    /// The same schema, of the Rust type `rust_name`, whose ULog name was derived
+    /// from that name (`named_after_struct`) or given.
+    pub fn with_rust_name(mut self, rust_name: &'static str, named_after_struct: bool) -> Schema {
+        self.rust_name = rust_name;
+        self.named_after_struct = named_after_struct;
+        self
     }
 
     /// The message name.
@@ -143,9 +198,25 @@ impl Schema {
         &self.format.name
     }
 
+    /// The binding's Rust type name (the message name for schemas built by hand).
+    pub fn rust_name(&self) -> &'static str {
+        self.rust_name
+    }
+
+    /// Whether the message name was derived from the Rust type's name rather than
+    /// given (`#[ulog(name = …)]`).
+    pub fn named_after_struct(&self) -> bool {
+        self.named_after_struct
+    }
+
     /// The fields as the binding declares them, in order.
     pub fn fields(&self) -> &'static [FieldDef] {
         self.fields
+    }
+
+    /// How many optional fields the binding has, its nested bindings' included.
+    pub fn optional_slots(&self) -> usize {
+        self.optional_slots
     }
 
     /// The message's own format.

@@ -2,37 +2,63 @@
 //!
 //! Every field of a binding has a *wire* image: a type of alignment 1 whose bytes are
 //! exactly the little-endian ULog bytes of the field (`zerocopy`'s
-//! `little_endian::U32` for a `u32`, `u8` for a `bool`, …). A binding's wire struct is
-//! the `#[repr(C)]` sequence of its fields' wire images, so it has the layout of the
-//! ULog payload on any host, and a payload is copied into it (or borrowed as it) in
-//! one go.
+//! `little_endian::U32` for a `u32`, `u8` for a `bool`, a byte array of the binding's
+//! size for a binding). A payload (or a copy of it laid out as the binding) is read
+//! field by field from such an image at offsets fixed when the binding is compiled.
 
 use ulog_format::BasicType;
 use zerocopy::little_endian as le;
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
 
-use super::chars::CharArray;
-use super::schema::Schema;
-use crate::value::{Str, Value};
+use super::chars::{ByteBool, CharArray};
+use super::schema::FieldKind;
+use crate::value::{LogText, Value};
 
-/// The ULog type of one value of a field: a basic type, or a nested message.
+/// Which optional fields (`Option<T>`, `#[ulog(default)]`) a log has, for one decode:
+/// the plan finds them once per subscription. Slots are numbered in field order, a
+/// nested binding's slots after the field that holds it.
 #[derive(Debug, Clone, Copy)]
-pub enum FieldKind {
-    /// One of the twelve basic types.
-    Basic(BasicType),
-    /// A nested message, by its schema.
-    Nested(fn() -> &'static Schema),
+pub struct Present<'p>(Option<&'p [bool]>);
+
+impl<'p> Present<'p> {
+    /// Every optional field is in the log.
+    pub const ALL: Present<'static> = Present(None);
+
+    /// Slot `i` of `slots` is whether optional field `i` is in the log.
+    pub fn new(slots: &'p [bool]) -> Present<'p> {
+        Present(Some(slots))
+    }
+
+    /// Whether optional field `i` is in the log.
+    #[inline(always)]
+    pub fn get(self, i: usize) -> bool {
+        match self.0 {
+            None => true,
+            Some(s) => s.get(i).copied().unwrap_or(true),
+        }
+    }
+
+    /// The `len` slots from `start`: a nested binding's.
+    #[inline(always)]
+    pub fn sub(self, start: usize, len: usize) -> Present<'p> {
+        match self.0 {
+            Some(s) if len > 0 => Present(s.get(start..start + len)),
+            _ => Present(None),
+        }
+    }
 }
 
 /// A Rust type that can be a field of a ULog binding.
 ///
 /// Implemented for `u8`…`u64`, `i8`…`i64`, `f32`, `f64`, `bool`, [`CharArray<N>`]
 /// (`char[N]`), `zerocopy`'s little-endian integer and float types (for borrowed
-/// views), and every type that derives [`ULogMessage`](super::ULogMessage). Arrays
+/// views), and every type that derives [`ULogMessage`](crate::ULogMessage). Arrays
 /// `[T; N]` of these (except `CharArray`) are fields too; the derive handles them.
+///
+/// Derive it rather than implementing it.
 #[diagnostic::on_unimplemented(
     message = "`{Self}` cannot be a field of a ULog message",
-    note = "fields are u8..u64, i8..i64, f32, f64, bool, `CharArray<N>`, arrays of these, or types that derive `ULogMessage`"
+    note = "fields are u8..u64, i8..i64, f32, f64, bool, `CharArray<N>`, arrays of these, `Option`s of these, or types that derive `ULogMessage`"
 )]
 pub trait WireField: Sized {
     /// The field's bytes as stored in a payload: alignment 1, little endian.
@@ -42,17 +68,58 @@ pub trait WireField: Sized {
     /// `Some(N)` for types that are ULog arrays by themselves (`CharArray<N>` is
     /// `char[N]`).
     const COUNT: Option<usize> = None;
-    /// Whether `Self` in memory is its wire image (alignment 1, same bytes), so that a
-    /// payload can be borrowed as `&Self`.
+    /// Whether `Self` in memory is its wire image: alignment 1, the size of
+    /// `Self::Wire`, every bit pattern of those bytes a valid `Self` (no `bool`, no
+    /// `Option`, no references, no padding), no interior mutability. The derive
+    /// computes it from the fields; a binding that is also [`WireImage`](super::WireImage)
+    /// can be borrowed from payloads.
     const IS_WIRE: bool = false;
-    /// The value of a wire image.
-    fn from_wire(wire: &Self::Wire) -> Self;
-    /// The wire image of a value.
+    /// How many optional fields it has, nested bindings' included (the slots of a
+    /// [`Present`]).
+    const OPTIONAL: usize = 0;
+    /// Whether its values can be written: [`Writable`], or [`HasOptionFields`] when it
+    /// has an `Option` field, nested ones included (`None` has no bytes to write). The
+    /// writer takes only `Writable` bindings, so that writing one with `Option` fields
+    /// is a type error.
+    type Writability: Writability;
+    /// The value of a wire image, its optional fields as `present` says.
+    fn from_wire(wire: &Self::Wire, present: Present<'_>) -> Self;
+    /// The wire image of a value (absent optional fields as zeros).
     fn to_wire(&self) -> Self::Wire;
     /// Calls `f` with `path` and the value of each leaf of `self`: the value itself
-    /// for basic types and `char[N]`, each field (with `.name` appended to `path`)
-    /// for bindings. See [`ULogMessage::visit_fields`](super::ULogMessage::visit_fields).
-    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>));
+    /// for basic types and `char[N]`, each leaf field (its path after `path`) for
+    /// bindings (generated code).
+    #[doc(hidden)]
+    fn visit(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        if let FieldKind::Basic(b) = Self::KIND {
+            let wire = self.to_wire();
+            f(path, Value::decode(b, Self::COUNT, wire.as_bytes()));
+        }
+    }
+}
+
+/// Whether a binding can be written: [`Writable`] or [`HasOptionFields`], combined
+/// over a binding's fields with [`Writability::And`].
+pub trait Writability {
+    /// `Writable` when both are.
+    type And<B: Writability>: Writability;
+}
+
+/// Values of the binding can be written.
+#[derive(Debug)]
+pub enum Writable {}
+
+/// The binding has `Option` fields (here or in a nested binding): values can be read,
+/// not written (`None` has no bytes).
+#[derive(Debug)]
+pub enum HasOptionFields {}
+
+impl Writability for Writable {
+    type And<B: Writability> = B;
+}
+
+impl Writability for HasOptionFields {
+    type And<B: Writability> = HasOptionFields;
 }
 
 /// A field type that can be the element of an array field (`[T; N]`): every
@@ -64,19 +131,19 @@ pub trait WireField: Sized {
 pub trait ArrayElement: WireField {}
 
 macro_rules! same_bytes {
-    ($($t:ty => $basic:ident, $value:ident, $native:ty),*) => {$(
+    ($($t:ty => $basic:ident),*) => {$(
         impl WireField for $t {
             type Wire = $t;
+            type Writability = Writable;
             const KIND: FieldKind = FieldKind::Basic(BasicType::$basic);
             const IS_WIRE: bool = true;
-            fn from_wire(wire: &$t) -> $t {
+            #[inline(always)]
+            fn from_wire(wire: &$t, _: Present<'_>) -> $t {
                 *wire
             }
+            #[inline(always)]
             fn to_wire(&self) -> $t {
                 *self
-            }
-            fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-                f(path, Value::$value(<$native as WireField>::from_wire(self)));
             }
         }
         impl ArrayElement for $t {}
@@ -84,26 +151,26 @@ macro_rules! same_bytes {
 }
 
 same_bytes!(
-    u8 => UInt8, U8, u8, i8 => Int8, I8, i8,
-    le::U16 => UInt16, U16, u16, le::I16 => Int16, I16, i16,
-    le::U32 => UInt32, U32, u32, le::I32 => Int32, I32, i32,
-    le::U64 => UInt64, U64, u64, le::I64 => Int64, I64, i64,
-    le::F32 => Float, F32, f32, le::F64 => Double, F64, f64
+    u8 => UInt8, i8 => Int8,
+    le::U16 => UInt16, le::I16 => Int16,
+    le::U32 => UInt32, le::I32 => Int32,
+    le::U64 => UInt64, le::I64 => Int64,
+    le::F32 => Float, le::F64 => Double
 );
 
 macro_rules! little_endian {
-    ($($t:ty => $wire:ty, $basic:ident, $value:ident),*) => {$(
+    ($($t:ty => $wire:ty, $basic:ident),*) => {$(
         impl WireField for $t {
             type Wire = $wire;
+            type Writability = Writable;
             const KIND: FieldKind = FieldKind::Basic(BasicType::$basic);
-            fn from_wire(wire: &$wire) -> $t {
+            #[inline(always)]
+            fn from_wire(wire: &$wire, _: Present<'_>) -> $t {
                 wire.get()
             }
+            #[inline(always)]
             fn to_wire(&self) -> $wire {
                 <$wire>::new(*self)
-            }
-            fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-                f(path, Value::$value(*self));
             }
         }
         impl ArrayElement for $t {}
@@ -111,41 +178,100 @@ macro_rules! little_endian {
 }
 
 little_endian!(
-    u16 => le::U16, UInt16, U16, i16 => le::I16, Int16, I16, u32 => le::U32, UInt32, U32,
-    i32 => le::I32, Int32, I32, u64 => le::U64, UInt64, U64, i64 => le::I64, Int64, I64,
-    f32 => le::F32, Float, F32, f64 => le::F64, Double, F64
+    u16 => le::U16, UInt16, i16 => le::I16, Int16, u32 => le::U32, UInt32,
+    i32 => le::I32, Int32, u64 => le::U64, UInt64, i64 => le::I64, Int64,
+    f32 => le::F32, Float, f64 => le::F64, Double
 );
 
 impl WireField for bool {
     type Wire = u8;
+    type Writability = Writable;
     const KIND: FieldKind = FieldKind::Basic(BasicType::Bool);
     /// Any non-zero byte is true, as in PX4.
-    fn from_wire(wire: &u8) -> bool {
+    #[inline(always)]
+    fn from_wire(wire: &u8, _: Present<'_>) -> bool {
         *wire != 0
     }
+    #[inline(always)]
     fn to_wire(&self) -> u8 {
         u8::from(*self)
-    }
-    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-        f(path, Value::Bool(*self));
     }
 }
 impl ArrayElement for bool {}
 
+impl WireField for ByteBool {
+    type Wire = ByteBool;
+    type Writability = Writable;
+    const KIND: FieldKind = FieldKind::Basic(BasicType::Bool);
+    const IS_WIRE: bool = true;
+    #[inline(always)]
+    fn from_wire(wire: &ByteBool, _: Present<'_>) -> ByteBool {
+        *wire
+    }
+    #[inline(always)]
+    fn to_wire(&self) -> ByteBool {
+        *self
+    }
+    fn visit(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        f(path, Value::Bool(self.get()));
+    }
+}
+impl ArrayElement for ByteBool {}
+
 impl<const N: usize> WireField for CharArray<N> {
     type Wire = CharArray<N>;
+    type Writability = Writable;
     const KIND: FieldKind = FieldKind::Basic(BasicType::Char);
     const COUNT: Option<usize> = Some(N);
     const IS_WIRE: bool = true;
-    fn from_wire(wire: &CharArray<N>) -> CharArray<N> {
+    #[inline(always)]
+    fn from_wire(wire: &CharArray<N>, _: Present<'_>) -> CharArray<N> {
         *wire
     }
+    #[inline(always)]
     fn to_wire(&self) -> CharArray<N> {
         *self
     }
-    /// The whole `N` bytes, as the reader gives a `char[N]` field.
-    fn visit_values(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-        f(path, Value::Str(Str(self.as_bytes())));
+}
+
+/// The size of `T`'s wire image.
+pub const fn wire_size<T: WireField>() -> usize {
+    core::mem::size_of::<T::Wire>()
+}
+
+/// Reads the `T` at `offset` of a binding's wire image (generated code).
+#[inline(always)]
+pub fn read<T: WireField>(wire: &[u8], offset: usize, present: Present<'_>) -> T {
+    let bytes = &wire[offset..offset + wire_size::<T>()];
+    match T::Wire::ref_from_bytes(bytes) {
+        Ok(w) => T::from_wire(w, present),
+        // The slice has the wire image's size, whose alignment is 1.
+        Err(_) => unreachable!("a wire image of the right size"),
+    }
+}
+
+/// Reads the `[T; N]` at `offset` of a binding's wire image (generated code).
+#[inline(always)]
+pub fn read_array<T: WireField, const N: usize>(
+    wire: &[u8],
+    offset: usize,
+    present: Present<'_>,
+) -> [T; N] {
+    core::array::from_fn(|i| read::<T>(wire, offset + i * wire_size::<T>(), present))
+}
+
+/// Writes `value` at `offset` of a binding's wire image (generated code).
+#[inline(always)]
+pub fn write<T: WireField>(wire: &mut [u8], offset: usize, value: &T) {
+    let image = value.to_wire();
+    wire[offset..offset + wire_size::<T>()].copy_from_slice(image.as_bytes());
+}
+
+/// Writes `values` from `offset` of a binding's wire image (generated code).
+#[inline(always)]
+pub fn write_array<T: WireField>(wire: &mut [u8], offset: usize, values: &[T]) {
+    for (i, v) in values.iter().enumerate() {
+        write(wire, offset + i * wire_size::<T>(), v);
     }
 }
 
@@ -158,7 +284,7 @@ pub fn visit_field<T: WireField>(
     f: &mut dyn FnMut(&str, Value<'_>),
 ) {
     field_path(path, base, name);
-    value.visit_values(path, f);
+    value.visit(path, f);
     path.truncate(base);
 }
 
@@ -173,7 +299,7 @@ pub fn visit_array<T: WireField>(
     for (i, value) in values.iter().enumerate() {
         field_path(path, base, name);
         push_index(path, i);
-        value.visit_values(path, f);
+        value.visit(path, f);
     }
     path.truncate(base);
 }
@@ -191,7 +317,7 @@ pub fn visit_chars(
     field_path(path, base, name);
     match (single, bytes.first()) {
         (true, Some(&c)) => f(path, Value::Char(c)),
-        _ => f(path, Value::Str(Str(bytes))),
+        _ => f(path, Value::Str(LogText(bytes))),
     }
     path.truncate(base);
 }
@@ -219,8 +345,24 @@ mod tests {
         assert_eq!(0x0102_0304u32.to_wire().as_bytes(), [4, 3, 2, 1]);
         assert_eq!((-2i16).to_wire().as_bytes(), [0xfe, 0xff]);
         assert_eq!(1.0f32.to_wire().as_bytes(), 1.0f32.to_le_bytes());
-        assert!(bool::from_wire(&2));
+        assert!(bool::from_wire(&2, Present::ALL));
         assert_eq!(true.to_wire(), 1);
-        assert_eq!(u64::from_wire(&le::U64::from_bytes(7u64.to_le_bytes())), 7);
+        let seven = le::U64::from_bytes(7u64.to_le_bytes());
+        assert_eq!(u64::from_wire(&seven, Present::ALL), 7);
+        let mut image = [0u8; 12];
+        write(&mut image, 4, &-5i64);
+        assert_eq!(read::<i64>(&image, 4, Present::ALL), -5);
+        write_array(&mut image, 0, &[1u16, 2]);
+        assert_eq!(read_array::<u16, 2>(&image, 0, Present::ALL), [1, 2]);
+    }
+
+    #[test]
+    fn presence_slots_and_nested_ranges() {
+        let slots = [true, false, true];
+        let p = Present::new(&slots);
+        assert!(p.get(0) && !p.get(1) && p.get(2));
+        assert!(!p.sub(1, 2).get(0));
+        assert!(p.sub(1, 0).get(0), "no slots: everything present");
+        assert!(Present::ALL.get(7));
     }
 }

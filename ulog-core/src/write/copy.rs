@@ -3,9 +3,10 @@
 
 use std::io::Write;
 
-use crate::error::Result;
-use crate::read::framing::{HEADER_LEN, MSG_HEADER_LEN};
-use crate::read::iter::Messages;
+use crate::bytes::{u16_at, HEADER_SIZE, MESSAGE_HEADER_SIZE};
+use crate::log::messages::Messages;
+use crate::log::ulog::ULog;
+use crate::write::error::WriteError;
 use crate::write::raw::RawWriter;
 
 /// Copies a log through the reader and the raw writer: every framed message is
@@ -14,39 +15,42 @@ use crate::write::raw::RawWriter;
 /// verbatim, so the output equals the input byte for byte.
 ///
 /// Returns how many messages were re-emitted. Fails only where the reader refuses the
-/// log (not ULog, unknown incompatibility flags) or writing fails.
+/// log (not ULog, unknown incompatibility flags: [`WriteErrorKind::Unreadable`]) or
+/// writing fails.
+///
+/// [`WriteErrorKind::Unreadable`]: crate::write::WriteErrorKind::Unreadable
 ///
 /// ```
 /// let bytes = ulog_core::testing::sample_log();
 /// let mut out = Vec::new();
-/// ulog_core::write::copy::copy_log(&bytes, &mut out)?;
+/// ulog_core::copy_log(&bytes, &mut out)?;
 /// assert_eq!(out, bytes);
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), ulog_core::WriteError>(())
 /// ```
-pub fn copy_log<W: Write>(data: &[u8], out: W) -> Result<u64> {
+pub fn copy_log<W: Write>(data: &[u8], out: W) -> Result<u64, WriteError> {
     let mut w = RawWriter::new(out);
     let mut messages = Messages::new(data);
     let mut at = 0usize;
     let mut count = 0u64;
     for m in messages.by_ref() {
-        let m = m?;
+        let m = m.map_err(WriteError::unreadable)?;
         if at == 0 {
-            w.bytes(&data[..HEADER_LEN])?;
-            at = HEADER_LEN;
+            w.bytes(&data[..HEADER_SIZE])?;
+            at = HEADER_SIZE;
         }
         let start = m.offset as usize;
         if start > at {
             w.bytes(&data[at..start])?;
         }
-        let size = u16::from_le_bytes([data[start], data[start + 1]]) as usize;
-        let payload = &data[start + MSG_HEADER_LEN..start + MSG_HEADER_LEN + size];
+        let size = usize::from(u16_at(data, start));
+        let payload = &data[start + MESSAGE_HEADER_SIZE..start + MESSAGE_HEADER_SIZE + size];
         w.message(m.message.msg_type(), &[payload])?;
-        at = start + MSG_HEADER_LEN + size;
+        at = start + MESSAGE_HEADER_SIZE + size;
         count += 1;
     }
     if at == 0 {
         // A log without messages: validate its header the same way, then copy it.
-        crate::ULog::parse(data)?;
+        ULog::parse(data).map_err(WriteError::unreadable)?;
     }
     w.bytes(&data[at..])?;
     w.flush()?;

@@ -2,7 +2,13 @@
 //! message writer for tools that copy or edit logs, byte-exact pass-through, and
 //! appending crash data to an existing log.
 
-pub mod append;
-pub mod copy;
-pub mod raw;
-pub mod writer;
+pub(crate) mod append;
+pub(crate) mod copy;
+pub(crate) mod error;
+pub(crate) mod raw;
+pub(crate) mod writer;
+
+pub use append::Appender;
+pub use error::WriteErrorKind;
+pub use raw::RawWriter;
+pub use writer::{DefaultTypes, InfoValue, ParamValue, RawTopicHandle, TopicHandle, WriterOptions};

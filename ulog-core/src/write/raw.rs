@@ -3,8 +3,10 @@
 
 use std::io::Write;
 
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::framing::{MAGIC, MSG_HEADER_LEN};
+use crate::bytes::{MAGIC, MESSAGE_HEADER_SIZE};
+use crate::write::error::{WriteError, WriteErrorKind};
+
+type Result<T, E = WriteError> = core::result::Result<T, E>;
 
 const FLUSH_AT: usize = 64 * 1024;
 
@@ -50,9 +52,9 @@ impl<W: Write> RawWriter<W> {
     pub fn message(&mut self, msg_type: u8, parts: &[&[u8]]) -> Result<()> {
         let size: usize = parts.iter().map(|p| p.len()).sum();
         let size16 = u16::try_from(size).map_err(|_| {
-            Error::new(
-                ErrorKind::MessageTooLarge { msg_type, size },
-                self.position(),
+            WriteError::new(
+                WriteErrorKind::MessageTooLarge { msg_type, size },
+                Some(self.position()),
             )
         })?;
         self.buf.extend_from_slice(&size16.to_le_bytes());
@@ -68,7 +70,7 @@ impl<W: Write> RawWriter<W> {
         let start = self.buf.len();
         self.buf.extend_from_slice(&[0, 0, msg_type]);
         fill(&mut self.buf);
-        let size = self.buf.len() - start - MSG_HEADER_LEN;
+        let size = self.buf.len() - start - MESSAGE_HEADER_SIZE;
         match u16::try_from(size) {
             Ok(s) => {
                 self.buf[start..start + 2].copy_from_slice(&s.to_le_bytes());
@@ -76,9 +78,9 @@ impl<W: Write> RawWriter<W> {
             }
             Err(_) => {
                 self.buf.truncate(start);
-                Err(Error::new(
-                    ErrorKind::MessageTooLarge { msg_type, size },
-                    self.position(),
+                Err(WriteError::new(
+                    WriteErrorKind::MessageTooLarge { msg_type, size },
+                    Some(self.position()),
                 ))
             }
         }
@@ -101,7 +103,7 @@ impl<W: Write> RawWriter<W> {
         let at = self.written;
         self.out
             .write_all(&self.buf)
-            .map_err(|e| Error::new(ErrorKind::Io(e.to_string()), at))?;
+            .map_err(|e| WriteError::io(e, Some(at)))?;
         self.written += self.buf.len() as u64;
         self.buf.clear();
         Ok(())
@@ -112,9 +114,7 @@ impl<W: Write> RawWriter<W> {
     pub fn flush(&mut self) -> Result<()> {
         self.drain()?;
         let at = self.written;
-        self.out
-            .flush()
-            .map_err(|e| Error::new(ErrorKind::Io(e.to_string()), at))
+        self.out.flush().map_err(|e| WriteError::io(e, Some(at)))
     }
 
     /// Flushes and gives the underlying writer back.

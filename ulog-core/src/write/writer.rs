@@ -16,11 +16,15 @@ use std::sync::Arc;
 use ulog_format::{Format, Layout, Limits, Resolver};
 use zerocopy::IntoBytes;
 
-use crate::error::{Error, ErrorKind, Result};
-use crate::read::framing::{is_text_byte, SYNC_MAGIC};
-use crate::read::message::LogLevel;
-use crate::typed::{FieldKind, ULogMessage, WireField};
+use crate::bytes::SYNC_MAGIC;
+use crate::framing::is_text_byte;
+use crate::log::message::LogLevel;
+use crate::typed::message::ULogMessage;
+use crate::typed::{FieldKind, WireField, Writable};
+use crate::write::error::{WriteError, WriteErrorKind};
 use crate::write::raw::RawWriter;
+
+type Result<T, E = WriteError> = core::result::Result<T, E>;
 
 /// Options of a [`LogWriter`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,21 +45,21 @@ impl Default for WriterOptions {
 
 /// A subscription of binding `T`: [`DataWriter::write`] takes only `T` values with it.
 #[derive(Debug)]
-pub struct Handle<T> {
+pub struct TopicHandle<T> {
     msg_id: u16,
     multi_id: u8,
     ty: PhantomData<fn(&T)>,
 }
 
-impl<T> Clone for Handle<T> {
+impl<T> Clone for TopicHandle<T> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<T> Copy for Handle<T> {}
+impl<T> Copy for TopicHandle<T> {}
 
-impl<T> Handle<T> {
+impl<T> TopicHandle<T> {
     /// The msg_id of the subscription.
     pub fn msg_id(&self) -> u16 {
         self.msg_id
@@ -69,12 +73,12 @@ impl<T> Handle<T> {
 
 /// An untyped subscription: payloads given as bytes, checked against its layout.
 #[derive(Debug, Clone)]
-pub struct RawHandle {
+pub struct RawTopicHandle {
     msg_id: u16,
     layout: Arc<Layout>,
 }
 
-impl RawHandle {
+impl RawTopicHandle {
     /// The msg_id of the subscription.
     pub fn msg_id(&self) -> u16 {
         self.msg_id
@@ -102,12 +106,11 @@ impl<T: WireField> InfoValue for T {
                 Some(n) => format!("{}[{n}]", b.name()),
                 None => b.name().to_owned(),
             }),
-            FieldKind::Nested(s) => Err(Error::new(
-                ErrorKind::FormatUndefined(format!(
-                    "{} (information values are basic types)",
-                    s().name()
-                )),
-                0,
+            FieldKind::Nested(s) => Err(WriteError::new(
+                WriteErrorKind::InvalidInfoValue {
+                    what: format!("binding `{}`", s().name()),
+                },
+                None,
             )),
         }
     }
@@ -121,9 +124,11 @@ impl<T: WireField> InfoValue for [T] {
     fn type_name(&self) -> Result<String> {
         match (T::KIND, T::COUNT) {
             (FieldKind::Basic(b), None) => Ok(format!("{}[{}]", b.name(), self.len())),
-            _ => Err(Error::new(
-                ErrorKind::FormatUndefined("array value (arrays of basic types only)".to_owned()),
-                0,
+            _ => Err(WriteError::new(
+                WriteErrorKind::InvalidInfoValue {
+                    what: "an array of strings or bindings".to_owned(),
+                },
+                None,
             )),
         }
     }
@@ -185,16 +190,19 @@ fn key_message(prefix: &[u8], name: &str, value: &(impl InfoValue + ?Sized)) -> 
             .bytes()
             .all(|b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'/'));
     if !valid {
-        return Err(Error::new(ErrorKind::InvalidName(name.to_owned()), 0));
+        return Err(WriteError::new(
+            WriteErrorKind::InvalidName(name.to_owned()),
+            None,
+        ));
     }
     let key = format!("{} {name}", value.type_name()?);
     let key_len = u8::try_from(key.len()).map_err(|_| {
-        Error::new(
-            ErrorKind::MessageTooLarge {
+        WriteError::new(
+            WriteErrorKind::MessageTooLarge {
                 msg_type: b'I',
                 size: key.len(),
             },
-            0,
+            None,
         )
     })?;
     let mut p = prefix.to_vec();
@@ -220,12 +228,11 @@ impl<W: Write> Core<W> {
             match self.formats.get(&f.name) {
                 Some(known) if known.fields == f.fields => {}
                 Some(_) => {
-                    return Err(Error::new(
-                        ErrorKind::FormatUndefined(format!(
-                            "{} (defined twice with different fields)",
-                            f.name
-                        )),
-                        self.out.position(),
+                    return Err(WriteError::new(
+                        WriteErrorKind::FormatConflict {
+                            name: f.name.clone(),
+                        },
+                        Some(self.out.position()),
                     ))
                 }
                 None => {
@@ -241,24 +248,24 @@ impl<W: Write> Core<W> {
     fn new_msg_id(&mut self) -> Result<u16> {
         let id = self.next_msg_id;
         self.next_msg_id = id.checked_add(1).ok_or_else(|| {
-            Error::new(
-                ErrorKind::FormatUndefined("msg_id (all 65,536 are used)".into()),
-                self.out.position(),
-            )
+            WriteError::new(WriteErrorKind::MsgIdsExhausted, Some(self.out.position()))
         })?;
         Ok(id)
     }
 
     fn layout_of(&mut self, name: &str) -> Result<Arc<Layout>> {
+        let at = Some(self.out.position());
         if !self.formats.contains_key(name) {
-            return Err(Error::new(
-                ErrorKind::FormatUndefined(name.to_owned()),
-                self.out.position(),
+            let name = name.to_owned();
+            return Err(WriteError::new(
+                WriteErrorKind::FormatNotDeclared { name },
+                at,
             ));
         }
-        self.resolver
-            .resolve(name, &self.formats)
-            .map_err(|e| Error::new(ErrorKind::Layout(e), self.out.position()))
+        self.resolver.resolve(name, &self.formats).map_err(|error| {
+            let name = name.to_owned();
+            WriteError::new(WriteErrorKind::NoLayout { name, error }, at)
+        })
     }
 
     fn subscription(&mut self, multi_id: u8, msg_id: u16, name: &str) -> Result<()> {
@@ -271,8 +278,7 @@ impl<W: Write> Core<W> {
 ///
 /// ```
 /// # #[cfg(feature = "derive")] {
-/// use ulog_core::typed::ULogMessage;
-/// use ulog_core::write::writer::LogWriter;
+/// use ulog_core::{LogWriter, ULogMessage};
 ///
 /// #[derive(ULogMessage)]
 /// #[ulog(crate = "ulog_core")]
@@ -367,16 +373,14 @@ impl<W: Write> LogWriter<W> {
 
     /// A format given as text (for tools that copy or edit logs).
     pub fn format(&mut self, text: &str) -> Result<&mut Self> {
-        let f = Format::parse(text).map_err(|e| Error::new(ErrorKind::InvalidFormat(e), 0))?;
+        let f = Format::parse(text)
+            .map_err(|e| WriteError::new(WriteErrorKind::InvalidFormat(e), None))?;
         match self.core.formats.get(&f.name) {
             Some(k) if k.fields == f.fields => {}
             Some(_) => {
-                return Err(Error::new(
-                    ErrorKind::FormatUndefined(format!(
-                        "{} (defined twice with different fields)",
-                        f.name
-                    )),
-                    0,
+                return Err(WriteError::new(
+                    WriteErrorKind::FormatConflict { name: f.name },
+                    None,
                 ))
             }
             None => {
@@ -391,14 +395,17 @@ impl<W: Write> LogWriter<W> {
     /// Subscribes binding `T` (instance `multi_id`): writes its format and every nested
     /// format it needs (each once) and assigns a msg_id. The subscription message
     /// itself opens the data section.
-    pub fn subscribe<T: ULogMessage>(&mut self, multi_id: u8) -> Result<Handle<T>> {
+    pub fn subscribe<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>>
+    where
+        T: ULogMessage + WireField<Writability = Writable>,
+    {
         let mut pending = Vec::new();
         self.core.add_formats(T::layout(), &mut pending)?;
         self.definitions
             .extend(pending.into_iter().map(|p| (b'F', p)));
         let msg_id = self.core.new_msg_id()?;
         self.queued.push((multi_id, msg_id, T::NAME.to_owned()));
-        Ok(Handle {
+        Ok(TopicHandle {
             msg_id,
             multi_id,
             ty: PhantomData,
@@ -406,11 +413,11 @@ impl<W: Write> LogWriter<W> {
     }
 
     /// Subscribes a format given by name (declared with [`LogWriter::format`]).
-    pub fn subscribe_raw(&mut self, name: &str, multi_id: u8) -> Result<RawHandle> {
+    pub fn subscribe_raw(&mut self, name: &str, multi_id: u8) -> Result<RawTopicHandle> {
         let layout = self.core.layout_of(name)?;
         let msg_id = self.core.new_msg_id()?;
         self.queued.push((multi_id, msg_id, name.to_owned()));
-        Ok(RawHandle { msg_id, layout })
+        Ok(RawTopicHandle { msg_id, layout })
     }
 
     /// Writes the header and definitions, and opens the data section.
@@ -468,18 +475,23 @@ impl<W: Write> DataWriter<W> {
 
     /// Subscribes binding `T` in the data section. Its formats must have been
     /// written in the definitions section (formats cannot be written here).
-    pub fn subscribe<T: ULogMessage>(&mut self, multi_id: u8) -> Result<Handle<T>> {
+    pub fn subscribe<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>>
+    where
+        T: ULogMessage + WireField<Writability = Writable>,
+    {
         for f in T::layout().formats() {
             if self.core.formats.get(&f.name).map(|k| &k.fields) != Some(&f.fields) {
-                return Err(Error::new(
-                    ErrorKind::FormatUndefined(f.name.clone()),
-                    self.position(),
+                return Err(WriteError::new(
+                    WriteErrorKind::FormatNotDeclared {
+                        name: f.name.clone(),
+                    },
+                    Some(self.position()),
                 ));
             }
         }
         let msg_id = self.core.new_msg_id()?;
         self.core.subscription(multi_id, msg_id, T::NAME)?;
-        Ok(Handle {
+        Ok(TopicHandle {
             msg_id,
             multi_id,
             ty: PhantomData,
@@ -487,15 +499,15 @@ impl<W: Write> DataWriter<W> {
     }
 
     /// Subscribes a format given by name, in the data section.
-    pub fn subscribe_raw(&mut self, name: &str, multi_id: u8) -> Result<RawHandle> {
+    pub fn subscribe_raw(&mut self, name: &str, multi_id: u8) -> Result<RawTopicHandle> {
         let layout = self.core.layout_of(name)?;
         let msg_id = self.core.new_msg_id()?;
         self.core.subscription(multi_id, msg_id, name)?;
-        Ok(RawHandle { msg_id, layout })
+        Ok(RawTopicHandle { msg_id, layout })
     }
 
-    pub(crate) fn existing<T: ULogMessage>(&mut self, msg_id: u16, multi_id: u8) -> Handle<T> {
-        Handle {
+    pub(crate) fn existing<T: ULogMessage>(&mut self, msg_id: u16, multi_id: u8) -> TopicHandle<T> {
+        TopicHandle {
             msg_id,
             multi_id,
             ty: PhantomData,
@@ -503,7 +515,7 @@ impl<W: Write> DataWriter<W> {
     }
 
     /// Writes a value of the handle's type, its trailing padding left out as PX4 does.
-    pub fn write<T: ULogMessage>(&mut self, handle: &Handle<T>, value: &T) -> Result<()> {
+    pub fn write<T: ULogMessage>(&mut self, handle: &TopicHandle<T>, value: &T) -> Result<()> {
         let id = handle.msg_id.to_le_bytes();
         let wire = value.to_wire();
         let bytes = wire.as_bytes();
@@ -514,16 +526,16 @@ impl<W: Write> DataWriter<W> {
 
     /// Writes a payload given as bytes: its length must be the format's full size or
     /// the size without trailing padding.
-    pub fn write_raw(&mut self, handle: &RawHandle, payload: &[u8]) -> Result<()> {
+    pub fn write_raw(&mut self, handle: &RawTopicHandle, payload: &[u8]) -> Result<()> {
         let l = &handle.layout;
         if !l.accepts_len(payload.len()) {
-            return Err(Error::new(
-                ErrorKind::PayloadSize {
+            return Err(WriteError::new(
+                WriteErrorKind::PayloadSize {
                     topic: l.name().to_owned(),
                     expected: (l.size(), l.min_size()),
                     found: payload.len(),
                 },
-                self.position(),
+                Some(self.position()),
             ));
         }
         self.core
@@ -549,7 +561,7 @@ impl<W: Write> DataWriter<W> {
     /// A logged string (`L`).
     ///
     /// An error, and nothing written, for text holding a control character other than
-    /// tab, line feed, carriage return and escape ([`ErrorKind::ControlCharacter`]):
+    /// tab, line feed, carriage return and escape ([`WriteErrorKind::ControlCharacter`]):
     /// readers may take such a message for corruption (this one does when the byte is
     /// among the text's first 128), so it is refused wherever it is.
     pub fn log(&mut self, level: LogLevel, timestamp: u64, text: &str) -> Result<()> {
@@ -585,9 +597,9 @@ impl<W: Write> DataWriter<W> {
     fn check_text(&self, text: &str) -> Result<()> {
         match text.bytes().enumerate().find(|&(_, b)| !is_text_byte(b)) {
             None => Ok(()),
-            Some((at, byte)) => Err(Error::new(
-                ErrorKind::ControlCharacter { at, byte },
-                self.position(),
+            Some((at, byte)) => Err(WriteError::new(
+                WriteErrorKind::ControlCharacter { at, byte },
+                Some(self.position()),
             )),
         }
     }

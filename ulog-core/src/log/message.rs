@@ -2,15 +2,16 @@
 
 use ulog_format::{parse_key, Field, TypeName};
 
-use crate::read::framing::{FlagBits, Record};
-use crate::value::{Str, Value};
+use crate::bytes::{u16_at, u64_at};
+use crate::framing::{FlagBits, Record};
+use crate::value::{LogText, Value};
 
 /// A `type name` key with its value bytes: the body of information (`I`),
 /// multi-information (`M`), parameter (`P`) and default parameter (`Q`) messages.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KeyValue<'a> {
     /// The key as logged, e.g. `char[3] sys_name` (lossy if not UTF-8).
-    pub key: Str<'a>,
+    pub key: LogText<'a>,
     /// The key parsed as a field, when it parses.
     pub field: Option<Field>,
     /// The value bytes.
@@ -23,7 +24,7 @@ impl<'a> KeyValue<'a> {
             .ok()
             .and_then(|k| parse_key(k).ok());
         KeyValue {
-            key: Str(key),
+            key: LogText(key),
             field,
             raw,
         }
@@ -106,22 +107,23 @@ impl LogLevel {
     }
 }
 
-/// A logged string (`L`), or a tagged logged string (`C`) when `tag` is set.
+/// A logged string (`L`), or a tagged logged string (`C`) when `tag` is set: the
+/// spec's names for the text messages PX4 logs (`[commander] Takeoff detected`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct LogMessage<'a> {
+pub struct LoggedString<'a> {
     /// Byte offset of the message in the file.
     pub offset: u64,
-    /// The level byte as logged (see [`LogMessage::level`]).
+    /// The level byte as logged (see [`LoggedString::level`]).
     pub raw_level: u8,
     /// The tag of a tagged message.
     pub tag: Option<u16>,
     /// Microseconds.
     pub timestamp: u64,
     /// The text as logged.
-    pub text: Str<'a>,
+    pub text: LogText<'a>,
 }
 
-impl LogMessage<'_> {
+impl LoggedString<'_> {
     /// The level, if the byte is a valid level.
     pub fn level(&self) -> Option<LogLevel> {
         LogLevel::from_raw(self.raw_level)
@@ -135,7 +137,7 @@ pub enum Message<'a> {
     /// `B`: flag bits.
     FlagBits(FlagBits),
     /// `F`: a format definition (its text).
-    Format(Str<'a>),
+    Format(LogText<'a>),
     /// `I`: information.
     Info(KeyValue<'a>),
     /// `M`: multi-information; `continued` joins it to the previous one of its key.
@@ -161,7 +163,7 @@ pub enum Message<'a> {
         /// Id used by the data messages.
         msg_id: u16,
         /// Format name.
-        name: Str<'a>,
+        name: LogText<'a>,
     },
     /// `R`: unsubscription.
     Unsubscribe {
@@ -176,7 +178,7 @@ pub enum Message<'a> {
         payload: &'a [u8],
     },
     /// `L` or `C`: a logged string.
-    Log(LogMessage<'a>),
+    Log(LoggedString<'a>),
     /// `S`: synchronisation.
     Sync(&'a [u8]),
     /// `O`: a dropout of `duration_ms` milliseconds.
@@ -191,16 +193,6 @@ pub enum Message<'a> {
         /// Its payload.
         payload: &'a [u8],
     },
-}
-
-fn u16_at(b: &[u8], i: usize) -> u16 {
-    u16::from_le_bytes([b[i], b[i + 1]])
-}
-
-fn u64_at(b: &[u8], i: usize) -> u64 {
-    let mut a = [0u8; 8];
-    a.copy_from_slice(&b[i..i + 8]);
-    u64::from_le_bytes(a)
 }
 
 impl<'a> Message<'a> {
@@ -224,7 +216,7 @@ impl<'a> Message<'a> {
                 incompat_flags: p[8..16].try_into().expect("8 bytes"),
                 appended_offsets: [u64_at(p, 16), u64_at(p, 24), u64_at(p, 32)],
             })),
-            b'F' => Message::Format(Str(p)),
+            b'F' => Message::Format(LogText(p)),
             b'I' => Message::Info(kv(&p[1..], p[0])),
             b'P' => Message::Param(kv(&p[1..], p[0])),
             b'M' => Message::MultiInfo {
@@ -238,7 +230,7 @@ impl<'a> Message<'a> {
             b'A' => Message::Subscribe {
                 multi_id: p[0],
                 msg_id: u16_at(p, 1),
-                name: Str(&p[3..]),
+                name: LogText(&p[3..]),
             },
             b'R' => Message::Unsubscribe {
                 msg_id: u16_at(p, 0),
@@ -247,19 +239,19 @@ impl<'a> Message<'a> {
                 msg_id: u16_at(p, 0),
                 payload: &p[2..],
             },
-            b'L' => Message::Log(LogMessage {
+            b'L' => Message::Log(LoggedString {
                 offset: r.offset,
                 raw_level: p[0],
                 tag: None,
                 timestamp: u64_at(p, 1),
-                text: Str(&p[9..]),
+                text: LogText(&p[9..]),
             }),
-            b'C' => Message::Log(LogMessage {
+            b'C' => Message::Log(LoggedString {
                 offset: r.offset,
                 raw_level: p[0],
                 tag: Some(u16_at(p, 1)),
                 timestamp: u64_at(p, 3),
-                text: Str(&p[11..]),
+                text: LogText(&p[11..]),
             }),
             b'S' => Message::Sync(p),
             b'O' => Message::Dropout {

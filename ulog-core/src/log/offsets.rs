@@ -36,12 +36,6 @@ impl OffsetIndex {
         self.low.len()
     }
 
-    /// Whether no message is indexed.
-    #[inline]
-    pub(crate) fn is_empty(&self) -> bool {
-        self.low.is_empty()
-    }
-
     /// Whether the vector of low halves is full (the next push reallocates).
     #[inline(always)]
     pub(crate) fn is_full(&self) -> bool {
@@ -77,7 +71,7 @@ impl OffsetIndex {
 /// assert_eq!(bytes[first as usize + 2], b'D');
 /// assert!(offsets.iter().zip(offsets.iter().skip(1)).all(|(a, b)| a < b));
 /// assert_eq!(offsets.slice(1..3).to_vec(), offsets.to_vec()[1..3]);
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy)]
 pub struct MessageOffsets<'l> {

@@ -1,7 +1,8 @@
 //! The incremental reader: messages yielded as they complete, from chunks pushed in
 //! (a socket, a log still being written) or pulled from any `Read`, in bounded memory.
 //!
-//! It runs the same framing as [`ULog::parse`](crate::ULog::parse), so it takes the
+//! [`PushReader`] takes chunks as they come; [`StreamReader`] pulls them from a `Read`.
+//! Both run the same framing as [`ULog::parse`](crate::ULog::parse), so they take the
 //! same decisions on damaged input. It holds at most the bytes framing still needs: one
 //! unfinished message, plus, while it judges damage, the next two messages it checks
 //! (at most 3 × 65,538 bytes), plus the caller's chunk.
@@ -9,47 +10,47 @@
 use std::io::Read;
 use std::sync::Arc;
 
-use ulog_format::Layout;
-
-use crate::error::{Error, ErrorKind, Result};
+use crate::definitions::Subscription;
+use crate::error::ReadError;
 use crate::finding::Finding;
-use crate::read::framing::{Framer, Header, Record, Step, MSG_HEADER_LEN};
-use crate::read::iter::MessageAt;
-use crate::read::message::Message;
-use crate::read::source::read_some;
+use crate::framing::{Framer, Header, Record, Step};
+use crate::log::message::Message;
+use crate::log::messages::MessageAt;
+use crate::pass::source::read_some;
 
-/// What [`Incremental::advance`] found.
+/// What [`PushReader::advance`] found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
-    /// A message is ready: read it with [`Incremental::current`].
+pub enum Progress {
+    /// A message is ready: read it with [`PushReader::current`].
     Ready,
-    /// More bytes are needed (or [`Incremental::finish`] if there are none).
+    /// More bytes are needed (or [`PushReader::finish`] if there are none).
     NeedMore,
     /// The end: every message has been yielded.
     End,
 }
 
-/// A push-driven incremental reader.
+/// An incremental reader fed the log's bytes as they arrive (a socket, a log still
+/// being written): each message is yielded once its bytes are there.
 ///
 /// ```
-/// use ulog_core::{Incremental, Status};
+/// use ulog_core::stream::{Progress, PushReader};
 /// # let bytes = ulog_core::testing::sample_log();
-/// let mut reader = Incremental::new();
+/// let mut reader = PushReader::new();
 /// let mut count = 0;
 /// for chunk in bytes.chunks(100) {
 ///     reader.push(chunk);
-///     while reader.advance()? == Status::Ready {
+///     while reader.advance()? == Progress::Ready {
 ///         count += 1;
 ///     }
 /// }
 /// reader.finish();
-/// while reader.advance()? == Status::Ready {
+/// while reader.advance()? == Progress::Ready {
 ///     count += 1;
 /// }
 /// assert_eq!(count, ulog_core::ULog::parse(&bytes)?.message_count());
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), ulog_core::ReadError>(())
 /// ```
-pub struct Incremental {
+pub struct PushReader {
     buf: Vec<u8>,
     base: u64,
     eof: bool,
@@ -58,16 +59,16 @@ pub struct Incremental {
     ended: bool,
 }
 
-impl Default for Incremental {
-    fn default() -> Incremental {
-        Incremental::new()
+impl Default for PushReader {
+    fn default() -> PushReader {
+        PushReader::new()
     }
 }
 
-impl Incremental {
+impl PushReader {
     /// A reader that has seen no bytes yet.
-    pub fn new() -> Incremental {
-        Incremental {
+    pub fn new() -> PushReader {
+        PushReader {
             buf: Vec::new(),
             base: 0,
             eof: false,
@@ -78,7 +79,7 @@ impl Incremental {
     }
 
     /// Adds the next bytes of the file. (The message of the last
-    /// [`advance`](Incremental::advance) is no longer available after this.)
+    /// [`advance`](PushReader::advance) is no longer available after this.)
     pub fn push(&mut self, chunk: &[u8]) {
         self.current = None;
         self.compact();
@@ -99,29 +100,28 @@ impl Incremental {
     }
 
     /// Frames the next message, if the bytes so far hold it.
-    pub fn advance(&mut self) -> Result<Status> {
+    pub fn advance(&mut self) -> Result<Progress, ReadError> {
         self.current = None;
         if self.ended {
-            return Ok(Status::End);
+            return Ok(Progress::End);
         }
         match self.framer.step(&self.buf, self.base, self.eof)? {
             Step::Record(r) => {
                 self.current = Some(r);
-                Ok(Status::Ready)
+                Ok(Progress::Ready)
             }
-            Step::NeedMore => Ok(Status::NeedMore),
+            Step::NeedMore => Ok(Progress::NeedMore),
             Step::End => {
                 self.ended = true;
-                Ok(Status::End)
+                Ok(Progress::End)
             }
         }
     }
 
-    /// The message that the last [`advance`](Incremental::advance) made ready.
+    /// The message that the last [`advance`](PushReader::advance) made ready.
     pub fn current(&self) -> Option<MessageAt<'_>> {
         let r = self.current?;
-        let start = (r.offset - self.base) as usize + MSG_HEADER_LEN;
-        let payload = &self.buf[start..start + r.size as usize];
+        let payload = r.payload(&self.buf, self.base);
         Some(MessageAt {
             offset: r.offset,
             message: Message::from_record(&r, payload, self.framer.flag_bits),
@@ -138,11 +138,10 @@ impl Incremental {
         &self.framer.findings
     }
 
-    /// The topic name, multi_id and layout of the subscription `msg_id` refers to now.
-    pub fn subscription(&self, msg_id: u16) -> Option<(&str, u8, Option<&Arc<Layout>>)> {
-        let i = self.framer.sub_index(msg_id)?;
-        let s = &self.framer.subs[i as usize];
-        Some((&s.name, s.multi_id, s.layout.as_ref().ok()))
+    /// The subscription that data messages of `msg_id` belong to now.
+    pub fn subscription(&self, msg_id: u16) -> Option<&Arc<Subscription>> {
+        let i = self.framer.defs.sub_index(msg_id)?;
+        Some(&self.framer.defs.subscriptions()[i as usize])
     }
 
     /// Bytes currently buffered (for checking the memory bound).
@@ -151,11 +150,12 @@ impl Incremental {
     }
 }
 
-/// An incremental reader pulling from any `Read`.
+/// An incremental reader pulling every message from any `Read` (a pipe, a socket),
+/// in bounded memory.
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
-/// let mut reader = ulog_core::StreamReader::new(&bytes[..]);
+/// let mut reader = ulog_core::stream::StreamReader::new(&bytes[..]);
 /// let mut data_messages = 0;
 /// while let Some(m) = reader.next_message()? {
 ///     if let ulog_core::Message::Data { .. } = m.message {
@@ -163,11 +163,11 @@ impl Incremental {
 ///     }
 /// }
 /// assert!(data_messages > 0);
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), ulog_core::ReadError>(())
 /// ```
 pub struct StreamReader<R> {
     src: R,
-    inner: Incremental,
+    inner: PushReader,
     chunk: Vec<u8>,
 }
 
@@ -181,24 +181,21 @@ impl<R: Read> StreamReader<R> {
     pub fn with_chunk_size(src: R, chunk: usize) -> StreamReader<R> {
         StreamReader {
             src,
-            inner: Incremental::new(),
+            inner: PushReader::new(),
             chunk: vec![0; chunk.max(1)],
         }
     }
 
     /// The next message, or `None` at the end.
-    pub fn next_message(&mut self) -> Result<Option<MessageAt<'_>>> {
+    pub fn next_message(&mut self) -> Result<Option<MessageAt<'_>>, ReadError> {
         loop {
             match self.inner.advance()? {
-                Status::Ready => break,
-                Status::End => return Ok(None),
-                Status::NeedMore => {
-                    let n = read_some(&mut self.src, &mut self.chunk).map_err(|e| {
-                        Error::new(
-                            ErrorKind::Io(e.to_string()),
-                            self.inner.base + self.inner.buf.len() as u64,
-                        )
-                    })?;
+                Progress::Ready => break,
+                Progress::End => return Ok(None),
+                Progress::NeedMore => {
+                    let at = self.inner.base + self.inner.buf.len() as u64;
+                    let n = read_some(&mut self.src, &mut self.chunk)
+                        .map_err(|e| ReadError::io(e, Some(at)))?;
                     if n == 0 {
                         self.inner.finish();
                     } else {
@@ -211,7 +208,7 @@ impl<R: Read> StreamReader<R> {
     }
 
     /// The underlying incremental reader (header, findings, subscriptions).
-    pub fn state(&self) -> &Incremental {
+    pub fn state(&self) -> &PushReader {
         &self.inner
     }
 }

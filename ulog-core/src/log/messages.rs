@@ -1,9 +1,9 @@
 //! Every message of a byte slice in file order, with the reader's damage handling.
 
-use crate::error::Result;
+use crate::error::ReadError;
 use crate::finding::Finding;
-use crate::read::framing::{Framer, Header, Step, MSG_HEADER_LEN};
-use crate::read::message::Message;
+use crate::framing::{Framer, Header, Step};
+use crate::log::message::Message;
 
 /// A message with the byte offset of its header in the file.
 #[derive(Debug, Clone, PartialEq)]
@@ -14,11 +14,14 @@ pub struct MessageAt<'a> {
     pub message: Message<'a>,
 }
 
-/// Iterator over the messages of a whole file (see [`ULog::messages`](crate::ULog::messages)).
+/// Every message of a whole file in file order, with the reader's damage handling:
+/// [`ULog::messages`](crate::ULog::messages), or [`Messages::new`] over bytes that were
+/// not parsed. (A stream that is still being written or read is
+/// [`StreamReader`](crate::stream::StreamReader)'s.)
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
-/// let mut it = ulog_core::Messages::new(&bytes);
+/// let mut it = ulog_core::read::Messages::new(&bytes);
 /// let formats = it.by_ref().filter_map(Result::ok).filter(|m| m.message.msg_type() == b'F').count();
 /// assert!(formats > 0);
 /// assert!(it.findings().is_empty());
@@ -52,13 +55,13 @@ impl<'a> Messages<'a> {
     ///
     /// ```
     /// # let bytes = ulog_core::testing::sample_log();
-    /// let mut it = ulog_core::Messages::new(&bytes);
+    /// let mut it = ulog_core::read::Messages::new(&bytes);
     /// let first = it.next().unwrap().unwrap();
     /// // Cut 5 bytes into the second message: nothing more, and the cut is reported.
     /// let end = first.offset as usize + 3 + u16::from_le_bytes([bytes[16], bytes[17]]) as usize;
     /// let mut cut = it.cut(end + 5).unwrap();
     /// assert!(cut.next().is_none());
-    /// assert_eq!(cut.findings()[0].kind, ulog_core::FindingKind::Truncated);
+    /// assert_eq!(cut.findings()[0].kind, ulog_core::read::FindingKind::Truncated);
     /// assert_eq!((cut.findings()[0].offset, cut.findings()[0].len), (end as u64, 5));
     /// ```
     pub fn cut(&self, len: usize) -> Option<Messages<'a>> {
@@ -79,7 +82,7 @@ impl<'a> Messages<'a> {
 }
 
 impl<'a> Iterator for Messages<'a> {
-    type Item = Result<MessageAt<'a>>;
+    type Item = Result<MessageAt<'a>, ReadError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         if self.done {
@@ -87,8 +90,7 @@ impl<'a> Iterator for Messages<'a> {
         }
         match self.framer.step(self.data, 0, true) {
             Ok(Step::Record(r)) => {
-                let start = r.offset as usize + MSG_HEADER_LEN;
-                let payload = &self.data[start..start + r.size as usize];
+                let payload = r.payload(self.data, 0);
                 Some(Ok(MessageAt {
                     offset: r.offset,
                     message: Message::from_record(&r, payload, self.framer.flag_bits),

@@ -15,15 +15,6 @@ pub const NUM_LEN: usize = 32;
 /// shortest candidates go to the even digit, as numpy's Dragon4 does), positional when
 /// `1e-4 <= |v| < 1e6` (numpy's bounds for `float32`, compared as doubles), scientific
 /// otherwise (`1e-05`, `1.5e+07`).
-///
-/// ```
-/// use ulog_core::numfmt::{format_numpy_f32, NUM_LEN};
-/// let mut out = [0u8; NUM_LEN];
-/// let n = format_numpy_f32(0.1, &mut out);
-/// assert_eq!(&out[..n], b"0.1");
-/// let n = format_numpy_f32(4e6, &mut out);
-/// assert_eq!(&out[..n], b"4e+06");
-/// ```
 pub fn format_numpy_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
     if !v.is_finite() || v == 0.0 {
         return special(out, v.is_nan(), v == 0.0, v.is_sign_negative());
@@ -42,15 +33,6 @@ pub fn format_numpy_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
 
 /// Writes `v` as numpy prints a `float64` scalar, and Python a float: the same rules
 /// as [`format_numpy_f32`] with the bounds `1e-4 <= |v| < 1e16`.
-///
-/// ```
-/// use ulog_core::numfmt::{format_numpy_f64, NUM_LEN};
-/// let mut out = [0u8; NUM_LEN];
-/// let n = format_numpy_f64(1e16, &mut out);
-/// assert_eq!(&out[..n], b"1e+16");
-/// let n = format_numpy_f64(-0.0, &mut out);
-/// assert_eq!(&out[..n], b"-0.0");
-/// ```
 pub fn format_numpy_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
     if !v.is_finite() || v == 0.0 {
         return special(out, v.is_nan(), v == 0.0, v.is_sign_negative());
@@ -83,13 +65,6 @@ fn ryu_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
 }
 
 /// Writes an unsigned integer in decimal at the start of `out`; returns its length.
-///
-/// ```
-/// use ulog_core::numfmt::{format_u64, NUM_LEN};
-/// let mut out = [0u8; NUM_LEN];
-/// let n = format_u64(1_000_042, &mut out);
-/// assert_eq!(&out[..n], b"1000042");
-/// ```
 pub fn format_u64(v: u64, out: &mut [u8; NUM_LEN]) -> usize {
     put_u64(out, 0, v)
 }
@@ -113,21 +88,6 @@ pub fn write_numpy_f32(out: &mut Vec<u8>, v: f32) {
 pub fn write_numpy_f64(out: &mut Vec<u8>, v: f64) {
     let mut text = [0u8; NUM_LEN];
     let n = format_numpy_f64(v, &mut text);
-    out.extend_from_slice(&text[..n]);
-}
-
-/// Appends an unsigned integer in decimal; returns the number of digits.
-pub fn write_u64(out: &mut Vec<u8>, v: u64) -> usize {
-    let mut text = [0u8; NUM_LEN];
-    let n = format_u64(v, &mut text);
-    out.extend_from_slice(&text[..n]);
-    n
-}
-
-/// Appends a signed integer in decimal.
-pub fn write_i64(out: &mut Vec<u8>, v: i64) {
-    let mut text = [0u8; NUM_LEN];
-    let n = format_i64(v, &mut text);
     out.extend_from_slice(&text[..n]);
 }
 
@@ -313,15 +273,13 @@ mod tests {
             let p = 10u64.pow(k);
             cases.extend([p - 1, p, p + 1, p.saturating_mul(3).saturating_sub(7)]);
         }
-        let mut out = Vec::new();
+        let mut out = [0u8; NUM_LEN];
         for v in cases {
-            out.clear();
-            assert_eq!(write_u64(&mut out, v), v.to_string().len());
-            assert_eq!(out, v.to_string().as_bytes());
+            let n = format_u64(v, &mut out);
+            assert_eq!(&out[..n], v.to_string().as_bytes());
             for s in [v as i64, (v as i64).wrapping_neg(), i64::MIN, i64::MAX] {
-                out.clear();
-                write_i64(&mut out, s);
-                assert_eq!(out, s.to_string().as_bytes());
+                let n = format_i64(s, &mut out);
+                assert_eq!(&out[..n], s.to_string().as_bytes());
             }
         }
     }
@@ -437,7 +395,7 @@ mod tests {
     }
 
     /// Every 16th `f32` bit pattern (268 million values); slow, run with
-    /// `cargo test --release -p ulog-core -- --ignored`.
+    /// `cargo test --release -p ulog-cli -- --ignored`.
     #[test]
     #[ignore]
     fn f32_agrees_with_the_old_formatter_on_every_16th_pattern() {

@@ -1,136 +1,23 @@
-//! [`ULog`]: a whole log parsed in one pass over borrowed bytes.
+//! [`ULog`]: a whole log parsed in one pass over borrowed bytes, with an index of
+//! every topic's data messages.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use ulog_format::{Format, Layout, LayoutError};
+use ulog_format::Format;
 
-use crate::error::{Error, ErrorKind, Result};
+use crate::definitions::timestamp::Unwrapper;
+use crate::definitions::Subscription;
+use crate::error::ReadError;
 use crate::finding::{Finding, FindingKind};
-use crate::read::framing::{FlagBits, Framer, Header, Record, Step, MSG_HEADER_LEN};
-use crate::read::message::{KeyValue, LogMessage, Message};
-use crate::read::offsets::OffsetIndex;
-use crate::read::timestamp::{TimestampField, Unwrapper};
+use crate::framing::{FlagBits, Framer, Header, Record, Step};
+use crate::log::message::{KeyValue, LoggedString, Message};
+use crate::log::messages::Messages;
+use crate::log::metadata::{
+    DefaultParam, Dropout, MultiInfo, ParamChange, ReleaseVersion, UnknownMessage,
+};
+use crate::log::offsets::OffsetIndex;
 use crate::value::Value;
-
-/// A subscription (`A`) with the data messages that belong to it.
-#[derive(Debug, Clone)]
-pub struct Subscription {
-    pub(crate) msg_id: u16,
-    pub(crate) multi_id: u8,
-    pub(crate) name: String,
-    pub(crate) offset: u64,
-    pub(crate) layout: Result<Arc<Layout>, LayoutError>,
-    /// Offsets of the `D` messages (their 3-byte headers), in file order.
-    pub(crate) records: OffsetIndex,
-    pub(crate) timestamp: Option<TimestampField>,
-}
-
-/// A multi-information key with its entries: each entry is the list of parts that
-/// `is_continued` joined, in file order.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MultiInfo<'a> {
-    /// The key's name.
-    pub name: String,
-    /// The entries, each a list of continued parts.
-    pub entries: Vec<Vec<KeyValue<'a>>>,
-}
-
-/// A parameter change in the data section.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ParamChange<'a> {
-    /// The latest data timestamp seen before the change (as pyulog reports it).
-    pub timestamp: u64,
-    /// Byte offset of the message.
-    pub offset: u64,
-    /// The parameter and its new value.
-    pub kv: KeyValue<'a>,
-}
-
-/// A default parameter (`Q`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DefaultParam<'a> {
-    /// Bit 0: system-wide default; bit 1: default of the current configuration.
-    pub default_types: u8,
-    /// Byte offset of the message.
-    pub offset: u64,
-    /// The parameter and its default value.
-    pub kv: KeyValue<'a>,
-}
-
-/// A dropout (`O`): logging data lost for `duration_ms`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Dropout {
-    /// Byte offset of the message.
-    pub offset: u64,
-    /// The latest data timestamp seen before the dropout.
-    pub timestamp: u64,
-    /// Duration in milliseconds.
-    pub duration_ms: u16,
-}
-
-/// A message of a type this reader does not know, kept as it was.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct UnknownMessage<'a> {
-    /// Byte offset of the message.
-    pub offset: u64,
-    /// The type byte.
-    pub msg_type: u8,
-    /// The payload.
-    pub payload: &'a [u8],
-}
-
-/// Software or OS version decoded from `ver_sw_release` / `ver_os_release`
-/// (`0xAABBCCTT`: major, minor, patch, type).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ReleaseVersion {
-    /// Major version.
-    pub major: u8,
-    /// Minor version.
-    pub minor: u8,
-    /// Patch version.
-    pub patch: u8,
-    /// Type byte: < 64 development, < 128 alpha, < 192 beta, < 255 RC, 255 release.
-    pub kind: u8,
-}
-
-impl ReleaseVersion {
-    /// Decodes the packed `0xAABBCCTT` form.
-    pub fn from_packed(v: u32) -> ReleaseVersion {
-        let [major, minor, patch, kind] = v.to_be_bytes();
-        ReleaseVersion {
-            major,
-            minor,
-            patch,
-            kind,
-        }
-    }
-
-    /// `development`, `alpha`, `beta`, `rc` or `release`.
-    pub fn kind_name(&self) -> &'static str {
-        match self.kind {
-            0..=63 => "development",
-            64..=127 => "alpha",
-            128..=191 => "beta",
-            192..=254 => "rc",
-            255 => "release",
-        }
-    }
-}
-
-impl core::fmt::Display for ReleaseVersion {
-    /// As pyulog: `v1.4.2`, `v1.4.2 (RC)`; development versions too (`(dev)`).
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "v{}.{}.{}", self.major, self.minor, self.patch)?;
-        match self.kind {
-            0..=63 => write!(f, " (dev)"),
-            64..=127 => write!(f, " (alpha)"),
-            128..=191 => write!(f, " (beta)"),
-            192..=254 => write!(f, " (RC)"),
-            255 => Ok(()),
-        }
-    }
-}
 
 /// A ULog file parsed in one pass: header, flag bits, definitions, every subscription
 /// with the offsets of its data messages, and everything else the file holds.
@@ -145,7 +32,7 @@ impl core::fmt::Display for ReleaseVersion {
 ///     let value = q0.read(payload).and_then(|v| v.as_f64());
 ///     assert!(value.is_some());
 /// }
-/// # Ok::<(), ulog_core::Error>(())
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug)]
 pub struct ULog<'a> {
@@ -153,13 +40,15 @@ pub struct ULog<'a> {
     header: Header,
     flag_bits: Option<FlagBits>,
     formats: HashMap<String, Format>,
-    subscriptions: Vec<Subscription>,
+    subscriptions: Vec<Arc<Subscription>>,
+    /// Per subscription, its data messages.
+    index: Vec<TopicIndex>,
     info: Vec<KeyValue<'a>>,
     multi_info: Vec<MultiInfo<'a>>,
     initial_params: Vec<KeyValue<'a>>,
     param_changes: Vec<ParamChange<'a>>,
     default_params: Vec<DefaultParam<'a>>,
-    logged: Vec<LogMessage<'a>>,
+    logged: Vec<LoggedString<'a>>,
     dropouts: Vec<Dropout>,
     sync_count: usize,
     unknown: Vec<UnknownMessage<'a>>,
@@ -169,21 +58,32 @@ pub struct ULog<'a> {
     message_count: u64,
 }
 
+/// The data messages of one subscription.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TopicIndex {
+    /// Offsets of the `D` messages (their 3-byte headers), in file order.
+    pub offsets: OffsetIndex,
+    /// For a topic without a timestamp field: per data message, the highest data
+    /// timestamp of the log before it (where it stands in the log's time). Empty
+    /// for topics with a timestamp.
+    pub log_time: Vec<u64>,
+}
+
 struct Builder<'a> {
     log: ULog<'a>,
-    /// Per subscription, what each data message updates: its offsets (moved into
-    /// the subscription at the end) and its timestamp unwrapper.
-    hot: Vec<(OffsetIndex, Unwrapper)>,
+    /// Per subscription, what each data message updates: its index and its
+    /// timestamp unwrapper.
+    hot: Vec<(TopicIndex, Unwrapper)>,
     multi_by_name: HashMap<String, usize>,
 }
 
 impl<'a> ULog<'a> {
-    /// Parses a whole log from bytes (a buffer or a memory map).
+    /// Parses a whole log from bytes (a buffer or a [`LogFile`](crate::LogFile)).
     ///
     /// Damage does not fail the parse: it is reported in [`ULog::findings`] and the data
     /// around it is kept. Errors are for input that is not a ULog file at all, or a log
     /// the spec says to refuse (unknown incompatibility flags).
-    pub fn parse(data: &'a [u8]) -> Result<ULog<'a>> {
+    pub fn parse(data: &'a [u8]) -> Result<ULog<'a>, ReadError> {
         let mut framer = Framer::new();
         let mut b = Builder {
             log: ULog {
@@ -195,6 +95,7 @@ impl<'a> ULog<'a> {
                 flag_bits: None,
                 formats: HashMap::new(),
                 subscriptions: Vec::new(),
+                index: Vec::new(),
                 info: Vec::new(),
                 multi_info: Vec::new(),
                 initial_params: Vec::new(),
@@ -214,8 +115,9 @@ impl<'a> ULog<'a> {
         };
         let mut started = false;
         loop {
-            framer.plain_data_run(data, 0, |offset, sub, _, payload| {
-                b.data(offset, sub, payload)
+            framer.plain_data_run(data, 0, |offset, sub, payload| {
+                b.data(offset, sub.index(), payload);
+                true
             });
             let step = framer.step(data, 0, true)?;
             if !started {
@@ -227,17 +129,19 @@ impl<'a> ULog<'a> {
             }
             match step {
                 Step::Record(r) => b.record(&r, &mut framer),
-                Step::End => break,
-                Step::NeedMore => unreachable!("the whole file is given"),
+                // The whole file is given: framing never asks for more.
+                Step::End | Step::NeedMore => break,
             }
         }
         let mut log = b.log;
-        for (sub, (records, _)) in log.subscriptions.iter_mut().zip(b.hot) {
-            sub.records = records;
-        }
+        log.index = b.hot.into_iter().map(|(index, _)| index).collect();
+        log.subscriptions = framer.defs.take_subscriptions();
+        // Subscriptions without data messages after the last record still get their
+        // (empty) index.
+        log.index
+            .resize_with(log.subscriptions.len(), TopicIndex::default);
+        log.formats = framer.defs.take_formats();
         log.flag_bits = framer.flag_bits;
-        log.formats = Arc::try_unwrap(std::mem::take(&mut framer.formats))
-            .unwrap_or_else(|shared| (*shared).clone());
         log.findings = std::mem::take(&mut framer.findings);
         log.appended = log
             .findings
@@ -261,44 +165,32 @@ fn reserve_for_rest(records: &mut OffsetIndex, offset: u64, len: usize) {
 }
 
 impl<'a> Builder<'a> {
-    /// A data message of subscription `sub` (already mirrored: subscriptions only
-    /// appear through [`Builder::record`]); `payload` starts with the msg_id.
+    /// A data message of subscription `sub` (whose entry [`Builder::record`] has
+    /// made); `payload` starts with the msg_id.
     #[inline(always)]
-    fn data(&mut self, offset: u64, sub: u32, payload: &[u8]) {
+    fn data(&mut self, offset: u64, sub: usize, payload: &[u8]) {
         self.log.message_count += 1;
-        let (records, unwrap) = &mut self.hot[sub as usize];
-        if records.is_full() {
-            reserve_for_rest(records, offset, self.log.data.len());
+        let (index, unwrap) = &mut self.hot[sub];
+        if index.offsets.is_full() {
+            reserve_for_rest(&mut index.offsets, offset, self.log.data.len());
         }
-        records.push(offset);
-        if let Some(ts) = unwrap.push(&payload[2..]) {
-            self.log.last_timestamp = self.log.last_timestamp.max(ts);
+        index.offsets.push(offset);
+        match unwrap.push(&payload[2..]) {
+            Some(ts) => self.log.last_timestamp = self.log.last_timestamp.max(ts),
+            None => index.log_time.push(self.log.last_timestamp),
         }
     }
 
     fn record(&mut self, r: &Record, framer: &mut Framer) {
-        let data = self.log.data;
-        let start = (r.offset as usize) + MSG_HEADER_LEN;
-        let payload = &data[start..start + r.size as usize];
-        // Subscriptions are created by framing; mirror new ones here.
-        while self.log.subscriptions.len() < framer.subs.len() {
-            let def = &framer.subs[self.log.subscriptions.len()];
-            let timestamp = def.layout.as_ref().ok().and_then(|l| TimestampField::of(l));
-            self.hot
-                .push((OffsetIndex::default(), Unwrapper::new(timestamp)));
-            self.log.subscriptions.push(Subscription {
-                msg_id: def.msg_id,
-                multi_id: def.multi_id,
-                name: def.name.clone(),
-                offset: def.offset,
-                layout: def.layout.clone(),
-                records: OffsetIndex::default(),
-                timestamp,
-            });
+        let payload = r.payload(self.log.data, 0);
+        // Subscriptions are made by framing: each gets its index as it appears.
+        for sub in &framer.defs.subscriptions()[self.hot.len()..] {
+            let unwrap = Unwrapper::new(sub.timestamp_field());
+            self.hot.push((TopicIndex::default(), unwrap));
         }
         if r.msg_type == b'D' {
             match r.sub {
-                Some(i) => self.data(r.offset, i, payload),
+                Some(i) => self.data(r.offset, i as usize, payload),
                 None => self.log.message_count += 1,
             }
             return;
@@ -458,7 +350,7 @@ impl<'a> ULog<'a> {
     }
 
     /// Logged strings, plain and tagged, in file order.
-    pub fn logged_messages(&self) -> &[LogMessage<'a>] {
+    pub fn logged_messages(&self) -> &[LoggedString<'a>] {
         &self.logged
     }
 
@@ -504,63 +396,20 @@ impl<'a> ULog<'a> {
         self.message_count
     }
 
-    /// Every subscription, in the order of their `A` messages.
-    pub fn subscriptions(&self) -> &[Subscription] {
+    /// Every subscription, in the order of their first `A` messages (the topic
+    /// instances of the log; [`ULog::topics`] views them with their data).
+    pub fn subscriptions(&self) -> &[Arc<Subscription>] {
         &self.subscriptions
     }
 
-    /// Every topic instance (one per subscription), in subscription order.
-    pub fn topics(&self) -> impl Iterator<Item = crate::Topic<'_, 'a>> {
-        self.subscriptions
-            .iter()
-            .map(move |sub| crate::Topic::new(self, sub))
-    }
-
-    /// The topic of subscription `index` (an index into [`ULog::subscriptions`]).
-    ///
-    /// # Panics
-    /// If there is no such subscription.
-    pub fn topic_at(&self, index: usize) -> crate::Topic<'_, 'a> {
-        crate::Topic::new(self, &self.subscriptions[index])
-    }
-
-    /// The topic `name` with `multi_id`.
-    pub fn topic(&self, name: &str, multi_id: u8) -> Result<crate::Topic<'_, 'a>> {
-        self.subscriptions
-            .iter()
-            .find(|s| s.name == name && s.multi_id == multi_id)
-            .map(|sub| crate::Topic::new(self, sub))
-            .ok_or_else(|| {
-                let names: Vec<&str> = self.subscriptions.iter().map(|s| s.name.as_str()).collect();
-                let exists = names.contains(&name);
-                Error::new(
-                    ErrorKind::TopicNotFound {
-                        name: if exists {
-                            format!("{name}` with multi_id `{multi_id}")
-                        } else {
-                            name.to_owned()
-                        },
-                        suggestion: if exists {
-                            None
-                        } else {
-                            crate::suggest::closest(name, names.iter().copied())
-                        },
-                    },
-                    0,
-                )
-            })
-    }
-
-    /// Every instance of topic `name`, by multi_id.
-    pub fn topic_instances(&self, name: &str) -> Vec<crate::Topic<'_, 'a>> {
-        let mut v: Vec<_> = self.topics().filter(|t| t.name() == name).collect();
-        v.sort_by_key(|t| t.multi_id());
-        v
+    /// The index of subscription `sub`'s data messages.
+    pub(crate) fn index(&self, sub: usize) -> &TopicIndex {
+        &self.index[sub]
     }
 
     /// Every message in file order, framed again from the bytes (with the same
     /// damage handling as the parse).
-    pub fn messages(&self) -> crate::read::iter::Messages<'a> {
-        crate::read::iter::Messages::new(self.data)
+    pub fn messages(&self) -> Messages<'a> {
+        Messages::new(self.data)
     }
 }

@@ -1,0 +1,246 @@
+//! Damage: a message that is not plausible is skipped by its own size when the
+//! messages after it frame cleanly; otherwise the reader looks forward for the next
+//! sync magic or the first header that starts a chain of plausible messages, and
+//! reports the stretch it skipped.
+
+use crate::bytes::{u16_at, SYNC_MAGIC};
+use crate::finding::{Corruption, FindingKind};
+
+use super::check::{Bad, Check};
+use super::{Framer, Record, Step};
+
+/// A damaged stretch being skipped.
+#[derive(Clone, Copy)]
+pub(super) struct Resync {
+    /// Where the damage starts.
+    start: u64,
+    /// The next place to look at.
+    pub next: u64,
+    all_zero: bool,
+    overrun: bool,
+    zero_size: bool,
+}
+
+/// Messages that must frame cleanly after a place for it to count as real messages.
+const CHAIN_DEPTH: usize = 2;
+
+/// Zero bytes that must follow a data message of the wrong size for it to be taken as
+/// a whole message followed by zero fill (rather than a corrupt size field): zero
+/// fill comes in sectors, while payloads hold shorter zero runs.
+const ZEROS_AFTER_MISMATCH: usize = 512;
+
+impl Framer {
+    /// Handles a message that is not plausible at `p`.
+    pub(super) fn bad(
+        &mut self,
+        win: &[u8],
+        base: u64,
+        p: u64,
+        eof: bool,
+        bad: Bad,
+    ) -> Option<Step> {
+        let rel = (p - base) as usize;
+        let (size, msg_type) = if win.len() - rel >= 3 {
+            (u16_at(win, rel), win[rel + 2])
+        } else {
+            (0, 0)
+        };
+        let end = p + 3 + size as u64;
+        let skippable = !matches!(bad, Bad::Overrun | Bad::ZeroSize);
+        if skippable {
+            match self.chain_valid(win, base, end, eof, CHAIN_DEPTH) {
+                None => return Some(Step::NeedMore),
+                Some(true) => {
+                    let len = 3 + size as u64;
+                    self.finding(self.bad_kind(bad, msg_type), p, len);
+                    self.pos = end;
+                    let unknown = matches!(bad, Bad::UnknownType(_));
+                    return unknown.then_some(Step::Record(Record {
+                        offset: p,
+                        msg_type,
+                        size,
+                        sub: None,
+                        unknown: true,
+                    }));
+                }
+                Some(false) => {
+                    // A data message of a known subscription, framed by its own size and
+                    // followed by zero bytes (a zero-filled stretch or tail): the message
+                    // is reported for what it is, the zeros as their own stretch. The
+                    // decision needs only the next `ZEROS_AFTER_MISMATCH` bytes (or the
+                    // end of the file), so the incremental reader takes it too without
+                    // buffering the zeros. Fewer zeros prove nothing: a size field hit
+                    // by corruption can land on a few zero bytes inside a payload.
+                    let after = (end - base) as usize;
+                    if matches!(bad, Bad::SizeMismatch(..)) {
+                        let tail = win.get(after..).unwrap_or(&[]);
+                        let seen = &tail[..tail.len().min(ZEROS_AFTER_MISMATCH)];
+                        if seen.len() >= 3 && seen.iter().all(|&b| b == 0) {
+                            if seen.len() < ZEROS_AFTER_MISMATCH && !eof {
+                                return Some(Step::NeedMore);
+                            }
+                            self.finding(self.bad_kind(bad, msg_type), p, 3 + size as u64);
+                            self.pos = end;
+                            return None;
+                        }
+                    }
+                }
+            }
+        }
+        self.resync = Some(Resync {
+            start: p,
+            next: p + 1,
+            all_zero: win[rel] == 0,
+            overrun: matches!(bad, Bad::Overrun),
+            zero_size: matches!(bad, Bad::ZeroSize),
+        });
+        None
+    }
+
+    fn bad_kind(&self, bad: Bad, msg_type: u8) -> FindingKind {
+        match bad {
+            Bad::UnknownType(t) => FindingKind::UnknownMessageType(t),
+            Bad::UnknownMsgId(id) => FindingKind::UnknownMsgId(id),
+            Bad::SizeMismatch(id, expected, found) => FindingKind::SizeMismatch {
+                msg_id: id,
+                expected,
+                found,
+            },
+            Bad::Malformed(t, what) => FindingKind::Malformed { msg_type: t, what },
+            Bad::Implausible | Bad::ZeroSize | Bad::Overrun => FindingKind::Malformed {
+                msg_type,
+                what: "implausible content",
+            },
+        }
+    }
+
+    /// Looks for the end of a corrupt stretch. `None`: resynchronised, go on.
+    pub(super) fn resync_step(&mut self, win: &[u8], base: u64, eof: bool) -> Option<Step> {
+        let mut s = self.resync.expect("resynchronising");
+        let win_end = base + win.len() as u64;
+        let limit = self.appended.first().copied().unwrap_or(u64::MAX);
+        let mut q = s.next;
+        let resume = loop {
+            if q >= limit {
+                break Some(limit);
+            }
+            if q >= win_end {
+                break None;
+            }
+            let rel = (q - base) as usize;
+            if win[rel..].starts_with(&SYNC_MAGIC) {
+                let header_at = q.checked_sub(3).filter(|&h| h > s.start && h >= base);
+                match header_at {
+                    Some(h) if win[(h - base) as usize..rel] == [8, 0, b'S'] => break Some(h),
+                    _ => break Some((q + SYNC_MAGIC.len() as u64).min(limit)),
+                }
+            }
+            if !eof && win_end - q < SYNC_MAGIC.len() as u64 {
+                s.next = q;
+                self.resync = Some(s);
+                return Some(Step::NeedMore);
+            }
+            match self.chain_valid_resync(win, base, q, eof) {
+                None => {
+                    s.next = q;
+                    self.resync = Some(s);
+                    return Some(Step::NeedMore);
+                }
+                Some(true) if q < win_end => break Some(q),
+                _ => {}
+            }
+            s.all_zero &= win[rel] == 0;
+            q += 1;
+        };
+        let end_of_damage = match resume {
+            Some(r) => r,
+            None if !eof => {
+                s.next = q;
+                self.resync = Some(s);
+                return Some(Step::NeedMore);
+            }
+            None => win_end,
+        };
+        self.resync = None;
+        let len = end_of_damage - s.start;
+        let kind = if resume.is_none() && s.overrun && !s.all_zero {
+            FindingKind::Truncated
+        } else if s.all_zero {
+            FindingKind::Corrupt(Corruption::ZeroFill)
+        } else if s.zero_size {
+            FindingKind::Corrupt(Corruption::ZeroSize)
+        } else if s.overrun {
+            FindingKind::Corrupt(Corruption::Overrun)
+        } else {
+            FindingKind::Corrupt(Corruption::BadHeader)
+        };
+        self.finding(kind, s.start, len);
+        match resume {
+            Some(r) => {
+                self.pos = r;
+                None
+            }
+            None => {
+                self.pos = win_end;
+                Some(self.end())
+            }
+        }
+    }
+
+    /// Whether a place found while resynchronising starts real messages: a chain of three,
+    /// or of two that end exactly at an appended offset or the end of the file (one
+    /// message that happens to end there could be the tail of the cut message itself).
+    fn chain_valid_resync(&self, win: &[u8], base: u64, q: u64, eof: bool) -> Option<bool> {
+        let depth = CHAIN_DEPTH;
+        match self.chain_len(win, base, q, eof, depth)? {
+            (n, _) if n > depth => Some(true),
+            (n, true) => Some(n >= 2),
+            _ => Some(false),
+        }
+    }
+
+    /// Whether the messages from `q` on frame cleanly for `depth` more messages (or
+    /// reach the end of the file or an appended offset). `None`: more bytes needed.
+    fn chain_valid(&self, win: &[u8], base: u64, q: u64, eof: bool, depth: usize) -> Option<bool> {
+        match self.chain_len(win, base, q, eof, depth)? {
+            (n, _) if n > depth => Some(true),
+            (_, reached_end) => Some(reached_end),
+        }
+    }
+
+    /// How many plausible messages follow from `q` (up to `depth + 1`), and whether
+    /// they end at the end of the file or an appended offset. `None`: more bytes
+    /// needed.
+    fn chain_len(
+        &self,
+        win: &[u8],
+        base: u64,
+        q: u64,
+        eof: bool,
+        depth: usize,
+    ) -> Option<(usize, bool)> {
+        let mut q = q;
+        let mut new_ids: Vec<u16> = Vec::new();
+        let win_end = base + win.len() as u64;
+        for n in 0..=depth {
+            if eof && q == win_end {
+                return Some((n, true));
+            }
+            if self.appended.first() == Some(&q) {
+                return Some((n, true));
+            }
+            match self.check(win, base, q, eof, true, &new_ids) {
+                Check::NeedMore => return None,
+                Check::Bad(_) => return Some((n, false)),
+                Check::Ok(size) => {
+                    let rel = (q - base) as usize;
+                    if win[rel + 2] == b'A' {
+                        new_ids.push(u16_at(win, rel + 4));
+                    }
+                    q += 3 + size as u64;
+                }
+            }
+        }
+        Some((depth + 1, false))
+    }
+}

@@ -1,0 +1,90 @@
+//! The work queue that spreads jobs over threads: the columnar load and the Parquet
+//! export use it for topics, the `ulog` command line for topics and for logs.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Runs `job(i)` for every `i` in `0..costs.len()` on up to `threads` threads (the
+/// calling one among them), each thread taking the next job from a shared queue,
+/// largest `costs` first so that the threads end together. After a job returns
+/// `Err`, no new job is started.
+///
+/// Returns each job's result at its index (`None`: not started, because a job failed
+/// first). A panic in a job is passed on.
+///
+/// ```
+/// let sizes = [3u64, 10, 1, 7];
+/// let done = ulog_core::parallel::largest_first(&sizes, 2, |i| {
+///     if sizes[i] > 100 { Err("too large") } else { Ok(sizes[i] * 2) }
+/// });
+/// let doubled: Vec<u64> = done.into_iter().map(|r| r.unwrap().unwrap()).collect();
+/// assert_eq!(doubled, [6, 20, 2, 14]);
+/// ```
+pub fn largest_first<T, E, F>(costs: &[u64], threads: usize, job: F) -> Vec<Option<Result<T, E>>>
+where
+    T: Send,
+    E: Send,
+    F: Fn(usize) -> Result<T, E> + Sync,
+{
+    let mut order: Vec<usize> = (0..costs.len()).collect();
+    // Ties in index order: the same jobs start first from run to run.
+    order.sort_by_key(|&i| (core::cmp::Reverse(costs[i]), i));
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let results: Mutex<Vec<Option<Result<T, E>>>> =
+        Mutex::new((0..costs.len()).map(|_| None).collect());
+    let work = || loop {
+        if failed.load(Ordering::Relaxed) {
+            break;
+        }
+        let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
+            break;
+        };
+        let result = job(i);
+        if result.is_err() {
+            failed.store(true, Ordering::Relaxed);
+        }
+        // A panic elsewhere poisons the lock only while that thread unwinds, and the
+        // scope passes the panic on: the results are complete either way.
+        results.lock().unwrap_or_else(|p| p.into_inner())[i] = Some(result);
+    };
+    let threads = threads.clamp(1, costs.len().max(1));
+    if threads == 1 {
+        work();
+    } else {
+        std::thread::scope(|s| {
+            for _ in 1..threads {
+                s.spawn(work);
+            }
+            work();
+        });
+    }
+    results.into_inner().unwrap_or_else(|p| p.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest_first;
+
+    #[test]
+    fn every_job_runs_once_on_any_number_of_threads() {
+        let costs: Vec<u64> = (0..50).map(|i| (i * 37) % 11).collect();
+        for threads in [0, 1, 2, 3, 64] {
+            let ran = std::sync::atomic::AtomicUsize::new(0);
+            let results = largest_first(&costs, threads, |i| {
+                ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                Ok::<usize, ()>(i)
+            });
+            let got: Vec<usize> = results.into_iter().map(|r| r.unwrap().unwrap()).collect();
+            assert_eq!(got, (0..50).collect::<Vec<_>>(), "{threads} threads");
+            assert_eq!(ran.into_inner(), 50);
+        }
+    }
+
+    #[test]
+    fn no_job_starts_after_one_fails() {
+        // One thread: the largest job runs first and fails; nothing else starts.
+        let results = largest_first(&[1, 9, 5], 1, |i| if i == 1 { Err(i) } else { Ok(i) });
+        assert_eq!(results, [None, Some(Err(1)), None]);
+    }
+}

@@ -1,0 +1,139 @@
+//! [`scan_topics`]: several topics of a log decoded into a [`ULogTopics`] enum in one
+//! pass, in file order or by timestamp.
+
+use crate::definitions::timestamp::Unwrapper;
+use crate::definitions::Subscription;
+use crate::error::ReadError;
+use crate::pass::driver::{DataRecord, Hand, ScanSummary};
+use crate::pass::order::time_ordered;
+use crate::pass::scan::{ScanFlow, ScanOptions, ScanOrder};
+use crate::pass::source::{drive, Source};
+
+use super::error::TypedError;
+use super::plans::Plans;
+use super::topics::ULogTopics;
+
+/// A data message met by [`scan_topics`]: decoded when the enum names its topic.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct TopicRecord<'r, E> {
+    /// Byte offset of the message's 3-byte header.
+    pub offset: u64,
+    /// Its subscription (name, instance, layout).
+    pub topic: &'r Subscription,
+    /// Its timestamp in microseconds (narrow version 0 timestamps unwrapped); `None`
+    /// when its topic's format has no timestamp field.
+    pub timestamp: Option<u64>,
+    /// The payload after the msg_id.
+    pub payload: &'r [u8],
+    /// The message decoded, when the enum names the topic and its format fits;
+    /// `None` for the others, which come only with
+    /// [`ScanOptions::raw_others`].
+    pub message: Option<E>,
+}
+
+/// Hands the data messages of the topics a [`ULogTopics`] enum names to `f`, decoded,
+/// in file order or by timestamp ([`ScanOptions::order`]); from any [`Source`], as
+/// [`scan`](crate::scan) reads it.
+///
+/// Each subscription is planned once, at its first record, by the same rule as
+/// [`ULog::read`](crate::ULog::read): each topic instance on its own, so one that does
+/// not fit does not stop the others. A subscription whose format does not fit its
+/// variant (or cannot be laid out) is an error handed to `f` once, before its first
+/// record; its records are then left out, or handed out undecoded with
+/// [`ScanOptions::raw_others`] (which also hands out the topics the enum does not
+/// name). `f` returns `()`, or a [`ControlFlow`](std::ops::ControlFlow) to stop early.
+///
+/// ```
+/// # #[cfg(feature = "derive")] {
+/// use ulog_core::read::ScanOrder;
+/// use ulog_core::{ScanOptions, ULogMessage, ULogTopics};
+///
+/// #[derive(ULogMessage)]
+/// #[ulog(crate = "ulog_core")]
+/// struct VehicleAttitude { timestamp: u64, q: [f32; 4] }
+///
+/// #[derive(ULogMessage)]
+/// #[ulog(crate = "ulog_core")]
+/// struct BatteryStatus { timestamp: u64, voltage_v: f32 }
+///
+/// #[derive(ULogTopics)]
+/// #[ulog(crate = "ulog_core")]
+/// enum Topics { Attitude(VehicleAttitude), Battery(BatteryStatus) }
+///
+/// let bytes = ulog_core::testing::sample_log();
+/// let (mut norms, mut last_time) = (Vec::new(), 0);
+/// let by_time = ScanOptions::default().order(ScanOrder::Timestamp);
+/// ulog_core::scan_topics::<Topics, _, _>(&bytes, &by_time, |record| {
+///     let record = record.unwrap();
+///     assert!(record.timestamp.unwrap() >= last_time);
+///     last_time = record.timestamp.unwrap();
+///     if let Some(Topics::Attitude(a)) = record.message {
+///         norms.push(a.q.iter().map(|v| v * v).sum::<f32>());
+///     }
+/// })
+/// .unwrap();
+/// let log = ulog_core::ULog::parse(&bytes).unwrap();
+/// assert_eq!(norms.len(), log.topic("vehicle_attitude", 0).unwrap().len());
+/// # }
+/// ```
+pub fn scan_topics<'s, E, F, R>(
+    source: impl Into<Source<'s>>,
+    options: &ScanOptions,
+    mut f: F,
+) -> Result<ScanSummary, ReadError>
+where
+    E: ULogTopics,
+    F: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R,
+    R: ScanFlow,
+{
+    let mut plans = Plans::<E>::new();
+    let raw_others = options.raw_others;
+    let mut hand = |r: DataRecord<'_>, timestamp: Option<u64>| -> Hand {
+        let record = |message| TopicRecord {
+            offset: r.offset,
+            topic: r.topic,
+            timestamp,
+            payload: r.payload,
+            message,
+        };
+        let go_on = match plans.get(r.topic) {
+            Ok(Some(plan)) => match E::decode(plan, r.payload) {
+                Ok(message) => f(Ok(record(Some(message)))).go_on(),
+                Err(e) => f(Err(TypedError::decode(r.topic, r.offset, e))).go_on(),
+            },
+            Ok(None) if raw_others => f(Ok(record(None))).go_on(),
+            Ok(None) => return Hand::SkipTopic,
+            Err(e) => {
+                if !f(Err(e)).go_on() {
+                    return Hand::Stop;
+                }
+                if !raw_others {
+                    return Hand::SkipTopic;
+                }
+                f(Ok(record(None))).go_on()
+            }
+        };
+        if go_on {
+            Hand::Next
+        } else {
+            Hand::Stop
+        }
+    };
+    match options.order {
+        ScanOrder::File => {
+            // Each subscription's timestamps, unwrapped as its records come.
+            let mut unwrap: Vec<Option<Unwrapper>> = Vec::new();
+            drive(source.into(), options.read_ahead, &mut |r| {
+                let i = r.topic.index();
+                if i >= unwrap.len() {
+                    unwrap.resize(i + 1, None);
+                }
+                let u = unwrap[i].get_or_insert_with(|| Unwrapper::new(r.topic.timestamp_field()));
+                let timestamp = u.push(r.payload);
+                hand(r, timestamp)
+            })
+        }
+        ScanOrder::Timestamp => time_ordered(source.into(), &mut hand),
+    }
+}
