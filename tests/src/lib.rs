@@ -128,3 +128,35 @@ pub fn recovered_stretches(log: &ulog_core::ULog<'_>) -> Vec<(u64, u64)> {
         })
         .collect()
 }
+
+/// pyulog's reading of `bytes` (written to a scratch file) as JSON
+/// (`scripts/pyulog_dump.py`: information, parameters, logged strings, dropouts, each
+/// data set's columns), or `None` after saying SKIPPED when `python3` cannot import
+/// pyulog.
+pub fn pyulog_dump(test: &str, bytes: &[u8]) -> Option<serde_json::Value> {
+    use std::process::Command;
+    let ok = Command::new("python3")
+        .args(["-c", "import pyulog"])
+        .output();
+    if !ok.is_ok_and(|o| o.status.success()) {
+        eprintln!("{test}: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
+        return None;
+    }
+    let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("written.ulg");
+    std::fs::write(&path, bytes).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/pyulog_dump.py");
+    let out = Command::new("python3")
+        .arg(script)
+        .arg(&path)
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        out.status.success(),
+        "pyulog failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}

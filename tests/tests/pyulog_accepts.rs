@@ -3,13 +3,13 @@
 //! SKIPPED otherwise.
 
 use std::io::Cursor;
-use std::process::Command;
 
 use serde_json::Value as J;
 use ulog_core::read::LogLevel;
 use ulog_core::typed::CharArray;
 use ulog_core::write::{DefaultTypes, WriterOptions};
 use ulog_core::{LogWriter, ULog, ULogMessage, Value};
+use ulog_tests::pyulog_dump;
 
 #[derive(ULogMessage, Debug, Clone)]
 struct EscReport {
@@ -130,34 +130,6 @@ fn json_eq(e: &J, ours: &Value) -> bool {
             _ => false,
         },
     }
-}
-
-/// pyulog's reading of `bytes` as JSON, or `None` (test skipped) without pyulog.
-fn pyulog_dump(test: &str, bytes: &[u8]) -> Option<J> {
-    let ok = Command::new("python3")
-        .args(["-c", "import pyulog"])
-        .output();
-    if !ok.is_ok_and(|o| o.status.success()) {
-        eprintln!("{test}: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
-        return None;
-    }
-    let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("written.ulg");
-    std::fs::write(&path, bytes).unwrap();
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/pyulog_dump.py");
-    let out = Command::new("python3")
-        .arg(script)
-        .arg(&path)
-        .output()
-        .unwrap();
-    std::fs::remove_dir_all(&dir).ok();
-    assert!(
-        out.status.success(),
-        "pyulog failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Some(serde_json::from_slice(&out.stdout).unwrap())
 }
 
 /// Every value pyulog read equals ours: information, parameters, logged strings,

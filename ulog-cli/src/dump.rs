@@ -72,11 +72,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => None,
     };
     // Subscriptions the reader kept, by the offset of their `A` message.
-    let by_offset: HashMap<u64, usize> = log
-        .topics()
-        .enumerate()
-        .map(|(i, t)| (t.subscription().offset(), i))
-        .collect();
     let mut decoders: Vec<Option<Decoder>> = (0..log.topics().count()).map(|_| None).collect();
     let mut current: HashMap<u16, usize> = HashMap::new();
 
@@ -88,7 +83,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut last_offset = 0u64;
     let mut out = BufWriter::with_capacity(1 << 16, io::stdout().lock());
     let mut line = String::with_capacity(256);
-    for item in log.messages() {
+    let mut messages = log.messages();
+    while let Some(item) = messages.next() {
         let Ok(m) = item else { break };
         while next_finding < findings.len() && findings[next_finding].offset <= m.offset {
             write_finding(&mut out, findings[next_finding], args.json).map_err(stdout_err)?;
@@ -96,10 +92,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         progress.inc(m.offset - last_offset);
         last_offset = m.offset;
-        if let Message::Subscribe { msg_id, .. } = &m.message {
-            if let Some(&i) = by_offset.get(&m.offset) {
-                current.insert(*msg_id, i);
+        // The reader's own rule for which topic instance a msg_id's data belongs to
+        // (a topic instance subscribed twice is one instance), as `csv` and `check`
+        // see it.
+        match &m.message {
+            Message::Subscribe { msg_id, .. } | Message::Unsubscribe { msg_id } => {
+                match messages.subscription(*msg_id) {
+                    Some(s) => current.insert(*msg_id, s.index()),
+                    None => current.remove(msg_id),
+                };
             }
+            _ => {}
         }
         if let Message::Data { msg_id, .. } = &m.message {
             if args.no_data {

@@ -167,3 +167,54 @@ fn topic_filter_and_unknown_topic() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains(&name), "suggests {name}: {err}");
 }
+
+/// A log that subscribes one topic instance twice (under two msg_ids, the same
+/// format): `dump` names the topic for the data of both, as `csv` (every row) and
+/// `check` (no finding) read it, by the reader's one rule.
+#[test]
+fn a_topic_instance_subscribed_twice_is_one_topic_in_dump() {
+    use ulog_core::testing::LogBuilder;
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [0; 8], [0; 3]);
+    b.format("t:uint64_t timestamp;uint32_t a;uint32_t b;");
+    b.subscribe(0, 0, "t");
+    b.subscribe(0, 1, "t");
+    for i in 0..6u64 {
+        let mut p = (100 * i).to_le_bytes().to_vec();
+        p.extend_from_slice(&(i as u32).to_le_bytes());
+        p.extend_from_slice(&0u32.to_le_bytes());
+        b.data((i % 2) as u16, &p);
+    }
+    let dir = common::scratch("dump_twice");
+    let path = dir.join("twice.ulg");
+    std::fs::write(&path, b.bytes()).unwrap();
+    let text = common::ulog_ok(["dump".as_ref(), path.as_os_str()]);
+    assert!(!text.contains("no subscription"), "{text}");
+    let data_lines = text
+        .lines()
+        .filter(|l| l.contains(" D ") || l.contains("data"))
+        .count();
+    assert!(data_lines >= 6, "{text}");
+    let json = common::ulog_ok(["dump".as_ref(), path.as_os_str(), "--json".as_ref()]);
+    let topics = json
+        .lines()
+        .filter(|l| l.contains("\"topic\":\"t\""))
+        .count();
+    assert!(topics >= 6, "{json}");
+    let out = dir.join("csv");
+    common::ulog_ok([
+        "csv".as_ref(),
+        path.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let csv = std::fs::read_to_string(out.join("twice_t_0.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 7);
+    let check = common::ulog(["check".as_ref(), path.as_os_str()]);
+    assert_eq!(
+        check.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&check.stdout)
+    );
+}

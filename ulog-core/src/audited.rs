@@ -1,5 +1,5 @@
 //! Every `unsafe` block of the crate, each with the argument that makes it sound: a
-//! memory map, a prefetch hint, and the cast behind typed views (with the unsafe
+//! memory map (`LogFile::map`), a prefetch hint, and the cast behind typed views (with the unsafe
 //! marker trait it rests on). The rest of the crate is `#![deny(unsafe_code)]`.
 
 /// Asks the processor for the cache line holding `bytes[at]`, which will be read soon
@@ -36,15 +36,41 @@ pub(crate) fn prefetch_span(bytes: &[u8], at: usize, len: usize) {
     }
 }
 
-/// Maps `file` read-only.
 #[cfg(feature = "mmap")]
-pub(crate) fn map(file: &std::fs::File) -> std::io::Result<memmap2::Mmap> {
-    // SAFETY: the map is read-only and lives as long as the `LogFile` that owns it,
-    // which every borrow of its bytes is tied to. The one hazard is outside Rust's
-    // control: another process truncating or rewriting the file while it is mapped
-    // (reads may then fault or see changed bytes); `LogFile` documents it, and a file
-    // that may change is read with a one-pass scan of a reader instead.
-    unsafe { memmap2::Mmap::map(file) }
+impl crate::LogFile {
+    /// Maps the file at `path` read-only instead of reading it ([`LogFile::open`](crate::LogFile::open)):
+    /// no copy of the file, and only the pages the reader touches are read, which
+    /// saves the time and memory of the copy on large logs (BENCHMARKS.md).
+    ///
+    /// # Safety
+    ///
+    /// The file must not be truncated or written, by this process or another, while
+    /// the returned `LogFile` (or anything borrowed from it) lives. A truncated file
+    /// kills the process with `SIGBUS` when the reader touches a page past the new
+    /// end, and bytes that change under a borrowed `&[u8]` break what Rust promises
+    /// about it. Use it for files nothing else writes (a log copied off the vehicle,
+    /// not one a logger or a sync tool may still change).
+    pub unsafe fn map(
+        path: impl AsRef<std::path::Path>,
+    ) -> Result<crate::LogFile, crate::ReadError> {
+        use crate::log::file::Bytes;
+        let path = path.as_ref();
+        let io = |e: std::io::Error| crate::ReadError::io(e, None).in_file(path);
+        let file = std::fs::File::open(path).map_err(io)?;
+        let bytes = if file.metadata().map_err(io)?.len() == 0 {
+            // Mapping an empty file fails on some systems; an empty buffer is the same.
+            Bytes::Read(Vec::new())
+        } else {
+            // SAFETY: read-only, and owned by the `LogFile` that every borrow of its
+            // bytes is tied to; that the file does not change while it is mapped is
+            // this function's contract with its caller.
+            Bytes::Mapped(unsafe { memmap2::Mmap::map(&file) }.map_err(io)?)
+        };
+        Ok(crate::LogFile {
+            bytes,
+            path: path.to_owned(),
+        })
+    }
 }
 
 /// A binding whose memory is its wire image, so that payload bytes can be borrowed as

@@ -35,6 +35,10 @@ pub enum ReadErrorKind {
         /// The unknown bits of that byte.
         bits: u8,
     },
+    /// The file changed while it was read: passes over it (the threads of
+    /// [`load_columns`](crate::load_columns) each read the file) framed different
+    /// logs.
+    Changed,
 }
 
 /// A log that could not be read: what, where in the file when there is a place, and
@@ -108,6 +112,10 @@ impl ReadError {
             }
             (ReadErrorKind::TruncatedHeader { len }, _) => {
                 format!("truncated ULog header: the file has {len} bytes, the header needs 16")
+            }
+            (ReadErrorKind::Changed, _) => {
+                "the file changed while it was read (two passes over it framed different logs)"
+                    .to_owned()
             }
             (ReadErrorKind::UnknownIncompatFlags { byte, bits }, _) => format!(
                 "refused: unknown incompatible flag bits {bits:#04x} in incompat_flags[{byte}]"

@@ -4,7 +4,7 @@
 //!
 //! | job | entry point |
 //! |---|---|
-//! | open a log | [`LogFile::open`] (a memory map) then [`LogFile::parse`]; [`ULog::parse`] over bytes |
+//! | open a log | [`LogFile::open`] (read into memory; [`LogFile::map`] maps it) then [`LogFile::parse`]; [`ULog::parse`] over bytes |
 //! | read one topic typed | [`ULog::read`] (one instance), [`ULog::read_instances`] (each instance on its own) |
 //! | read several topics typed, in file or time order | [`scan_topics`] with a [`ULogTopics`] enum |
 //! | read every data message once, untyped | [`scan`] |

@@ -14,7 +14,7 @@ use std::sync::Arc;
 use crate::access::columns::{Column, Table};
 use crate::access::lookup::LookupError;
 use crate::definitions::Subscription;
-use crate::error::ReadError;
+use crate::error::{ReadError, ReadErrorKind};
 use crate::estimate::rows_at_end;
 use crate::log::ulog::ULog;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
@@ -204,6 +204,12 @@ pub(crate) fn load_one(
     Ok(finish(summary, vec![tables]))
 }
 
+/// Whether two passes over a file framed the same log.
+fn same_log(a: &ScanSummary, b: &ScanSummary) -> bool {
+    (a.messages, a.data_messages, a.topics.len(), &a.findings)
+        == (b.messages, b.data_messages, b.topics.len(), &b.findings)
+}
+
 /// A source like `source` for one more pass: the same bytes, or the file opened again.
 fn again<'s>(source: &Source<'s>) -> Source<'s> {
     match &source.inner {
@@ -329,12 +335,23 @@ pub(crate) fn load_shared(
             .collect()
     });
     let mut shared = Vec::with_capacity(threads);
-    let mut summary = None;
+    let mut summary: Option<ScanSummary> = None;
     for r in results {
         let (s, tables) = r?;
         shared.push(tables);
-        // Every thread framed the whole file.
-        summary.get_or_insert(s);
+        // Every thread framed the whole file: the same log, unless the file changed
+        // between their reads (a logger writing it, a sync rewriting it).
+        match &summary {
+            Some(first) if !same_log(first, &s) => {
+                let e = ReadError::new(ReadErrorKind::Changed, None);
+                return Err(match source.inner.path() {
+                    Some(path) => e.in_file(path),
+                    None => e,
+                });
+            }
+            Some(_) => {}
+            None => summary = Some(s),
+        }
     }
     Ok(finish(summary.expect("at least one thread"), shared))
 }

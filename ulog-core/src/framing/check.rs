@@ -3,6 +3,7 @@
 
 use crate::bytes::{u16_at, HEADER_SIZE, SYNC_MAGIC};
 use crate::definitions::NO_SUB;
+use ulog_format::{BasicType, FormatErrorKind, TypeName};
 
 use super::Framer;
 
@@ -70,6 +71,34 @@ fn plausible_text(p: &[u8], t: u8) -> bool {
 /// writer refuses text with other bytes anywhere.
 pub(crate) fn is_text_byte(b: u8) -> bool {
     b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b)
+}
+
+/// Whether the key of an information or parameter message reads as `type name` in the
+/// format grammar (`ulog_format::parse_key`) with a basic type. While
+/// resynchronising, the name must follow the grammar too and the value must have the
+/// type's size, so that a stretch of binary whose first bytes happen to hold a space
+/// does not pass for a key and swallow the messages after it; elsewhere a name past
+/// the grammar (real logs have `char[11] Build Date`) is kept.
+fn plausible_key(key: &[u8], value_len: usize, resync: bool) -> bool {
+    let Ok(text) = std::str::from_utf8(key) else {
+        return false;
+    };
+    match ulog_format::parse_key(text) {
+        Ok(field) => match field.ty {
+            TypeName::Basic(b) => !resync || b.size() * field.array_len.unwrap_or(1) == value_len,
+            TypeName::Nested(_) => false,
+        },
+        Err(e) => {
+            // The grammar reports the type's errors before the name's: a name error
+            // first means the type read well.
+            let ty = text.split(' ').next().unwrap_or("");
+            let base = ty.split('[').next().unwrap_or("");
+            !resync
+                && matches!(e.kind, FormatErrorKind::InvalidFieldNameChar(_))
+                && BasicType::from_name(base).is_some()
+                && text.bytes().all(is_text_byte)
+        }
+    }
 }
 
 fn is_name_byte(b: u8) -> bool {
@@ -142,7 +171,8 @@ impl Framer {
                 if 1 + p[0] as usize > p.len() || p[0] == 0 {
                     return bad("key longer than the message");
                 }
-                if content && !p[1..1 + p[0] as usize].contains(&b' ') {
+                let (key, value) = p[1..].split_at(p[0] as usize);
+                if content && !plausible_key(key, value.len(), resync) {
                     return Check::Bad(Bad::Implausible);
                 }
             }
@@ -150,7 +180,8 @@ impl Framer {
                 if 2 + p[1] as usize > p.len() || p[1] == 0 {
                     return bad("key longer than the message");
                 }
-                if content && (!p[2..2 + p[1] as usize].contains(&b' ') || (t == b'M' && p[0] > 1))
+                let (key, value) = p[2..].split_at(p[1] as usize);
+                if content && (!plausible_key(key, value.len(), resync) || (t == b'M' && p[0] > 1))
                 {
                     return Check::Bad(Bad::Implausible);
                 }
@@ -161,7 +192,9 @@ impl Framer {
             b'A' if content && !p[3..].iter().take(STRICT_PREFIX).all(|&b| is_name_byte(b)) => {
                 return Check::Bad(Bad::Implausible)
             }
-            b'L' | b'C' if content && !(valid_level(p[0]) && plausible_text(p, t)) => {
+            // A level byte outside '0'..'7' is kept in the data section (pyulog keeps
+            // such strings; `ulog check` warns), but does not start a resync.
+            b'L' | b'C' if content && !((!resync || valid_level(p[0])) && plausible_text(p, t)) => {
                 return Check::Bad(Bad::Implausible)
             }
             b'F' if content

@@ -133,6 +133,7 @@ impl Framer {
             }
             valid.sort_unstable();
             self.appended = valid;
+            self.appended_field = at + 16;
         } else if !offsets.is_empty() {
             self.finding(FindingKind::AppendedOffsetsWithoutFlag, at + 16, 0);
         }

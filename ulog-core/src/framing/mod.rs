@@ -17,6 +17,8 @@ mod check;
 mod header;
 mod resync;
 
+use std::sync::Arc;
+
 use crate::audited::prefetch;
 use crate::bytes::{u16_at, MESSAGE_HEADER_SIZE};
 use crate::definitions::{Definitions, IdEntry, Subscription, NO_SUB};
@@ -81,6 +83,9 @@ pub(crate) struct Framer {
     pub flag_bits: Option<FlagBits>,
     /// Appended offsets not reached yet, in increasing order.
     appended: Vec<u64>,
+    /// Where the flag bits message holds the appended offsets: the place of an
+    /// offset that points past the end of the file.
+    appended_field: u64,
     pub findings: Vec<Finding>,
     pub defs: Definitions,
     pub in_definitions: bool,
@@ -116,6 +121,7 @@ impl Framer {
             header: None,
             flag_bits: None,
             appended: Vec::new(),
+            appended_field: 0,
             findings: Vec::new(),
             defs: Definitions::new(),
             in_definitions: true,
@@ -185,7 +191,7 @@ impl Framer {
         &mut self,
         win: &'w [u8],
         base: u64,
-        mut f: impl FnMut(u64, &Subscription, &'w [u8]) -> bool,
+        mut f: impl FnMut(u64, u32, &Arc<Subscription>, &'w [u8]) -> bool,
     ) {
         let Some((mut rel, limit)) = self.plain_window(win, base) else {
             return;
@@ -193,8 +199,11 @@ impl Framer {
         let (subs, entries) = (self.defs.subscriptions(), self.defs.entries());
         while let Some((end, entry)) = plain_at(win, rel, limit, entries) {
             prefetch(win, rel + PREFETCH_AHEAD);
+            // The index comes from the msg_id table already loaded: callers that only
+            // need it (the parse) do not reach into the subscription record.
             let go_on = f(
                 base + rel as u64,
+                entry.sub,
                 &subs[entry.sub as usize],
                 &win[rel + MESSAGE_HEADER_SIZE..end],
             );
@@ -254,7 +263,11 @@ impl Framer {
                         self.in_definitions = false;
                         self.finding(FindingKind::AppendedData, off, 0);
                     } else {
-                        self.finding(FindingKind::InvalidAppendedOffset(off), off, 0);
+                        self.finding(
+                            FindingKind::InvalidAppendedOffset(off),
+                            self.appended_field,
+                            0,
+                        );
                     }
                     continue;
                 }
@@ -308,8 +321,14 @@ impl Framer {
 
     fn end(&mut self) -> Step {
         self.phase = Phase::End;
+        // Offsets never reached point past the end of the file: the place to show
+        // is where the flag bits message holds them.
         for off in std::mem::take(&mut self.appended) {
-            self.finding(FindingKind::InvalidAppendedOffset(off), off, 0);
+            self.finding(
+                FindingKind::InvalidAppendedOffset(off),
+                self.appended_field,
+                0,
+            );
         }
         Step::End
     }

@@ -1,19 +1,23 @@
-//! [`LogFile`]: a log file mapped into memory.
+//! [`LogFile`]: a log file held in memory, read once or mapped.
 
-use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use crate::error::ReadError;
 use crate::log::ulog::ULog;
 
-/// A log file mapped into memory (feature `mmap`, on by default): [`LogFile::parse`] borrows from it, so no byte of
-/// the data section is copied, and a one-pass read of it
-/// ([`scan`](crate::scan), [`scan_topics`](crate::scan_topics)) reads the map.
+/// A log file in memory: [`LogFile::parse`] borrows from it, so no byte of the data
+/// section is copied again, and a one-pass read of it ([`scan`](crate::scan),
+/// [`scan_topics`](crate::scan_topics)) reads it where it is.
 ///
-/// The map is of the file as it is when opened. Another process truncating or
-/// rewriting it while it is mapped can make reads fault or see changed bytes; read a
-/// file that may change (a log being written, one being rotated or synced) in one
-/// pass from a reader instead ([`Source::file`](crate::Source::file)).
+/// [`LogFile::open`] reads the whole file once: a snapshot of the file as it was
+/// read. Another process truncating, extending or rewriting the file meanwhile (a
+/// logger still writing, a log being rotated or synced) changes at most what the
+/// snapshot holds, which the reader then treats as any log: a prefix, more messages,
+/// or damage reported as findings. Nothing of it can fault or panic.
+///
+/// [`LogFile::map`] maps the file instead (feature `mmap`, on by default): no copy, and
+/// pages read only where the log is read, but `unsafe`, because a file that changes
+/// while it is mapped can kill the process (see its safety section).
 ///
 /// ```no_run
 /// let file = ulog_core::LogFile::open("flight.ulg")?;
@@ -22,44 +26,25 @@ use crate::log::ulog::ULog;
 /// # Ok::<(), ulog_core::ReadError>(())
 /// ```
 pub struct LogFile {
-    bytes: Bytes,
-    path: PathBuf,
+    pub(crate) bytes: Bytes,
+    pub(crate) path: PathBuf,
 }
 
-enum Bytes {
+pub(crate) enum Bytes {
     #[cfg(feature = "mmap")]
     Mapped(memmap2::Mmap),
-    /// Read into memory: an empty file, or a build without the `mmap` feature.
     Read(Vec<u8>),
 }
 
 impl LogFile {
-    /// Maps the file at `path` read-only (without the `mmap` feature: reads it into
-    /// memory).
+    /// Reads the file at `path` into memory (a snapshot of it; see [`LogFile`]).
     pub fn open(path: impl AsRef<Path>) -> Result<LogFile, ReadError> {
         let path = path.as_ref();
-        let io = |e: std::io::Error| ReadError::io(e, None).in_file(path);
-        let file = File::open(path).map_err(io)?;
+        let bytes = std::fs::read(path).map_err(|e| ReadError::io(e, None).in_file(path))?;
         Ok(LogFile {
-            bytes: Self::bytes_of(file).map_err(io)?,
+            bytes: Bytes::Read(bytes),
             path: path.to_owned(),
         })
-    }
-
-    #[cfg(feature = "mmap")]
-    fn bytes_of(file: File) -> std::io::Result<Bytes> {
-        if file.metadata()?.len() == 0 {
-            // Mapping an empty file fails on some systems; an empty slice is the same.
-            return Ok(Bytes::Read(Vec::new()));
-        }
-        crate::audited::map(&file).map(Bytes::Mapped)
-    }
-
-    #[cfg(not(feature = "mmap"))]
-    fn bytes_of(mut file: File) -> std::io::Result<Bytes> {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut file, &mut bytes)?;
-        Ok(Bytes::Read(bytes))
     }
 
     /// The file's bytes.
@@ -76,7 +61,7 @@ impl LogFile {
         &self.path
     }
 
-    /// Parses the mapped file; an error names the file.
+    /// Parses the file; an error names the file.
     pub fn parse(&self) -> Result<ULog<'_>, ReadError> {
         ULog::parse(self.bytes()).map_err(|e| e.in_file(&self.path))
     }

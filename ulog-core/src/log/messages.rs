@@ -1,5 +1,8 @@
 //! Every message of a byte slice in file order, with the reader's damage handling.
 
+use std::sync::Arc;
+
+use crate::definitions::Subscription;
 use crate::error::ReadError;
 use crate::finding::Finding;
 use crate::framing::{Framer, Header, Step};
@@ -73,6 +76,15 @@ impl<'a> Messages<'a> {
             framer: self.framer.clone(),
             done: self.done,
         })
+    }
+
+    /// The subscription that data messages of `msg_id` belong to at this point of the
+    /// iteration (after the message last handed out): the same record, of the same
+    /// topic instance, as in the [`ULog`](crate::ULog) of these bytes, including where
+    /// a log subscribes one topic instance twice. `None`: no subscription.
+    pub fn subscription(&self, msg_id: u16) -> Option<&Arc<Subscription>> {
+        let i = self.framer.defs.sub_index(msg_id)?;
+        self.framer.defs.subscriptions().get(i as usize)
     }
 
     /// What was found and stepped over so far.

@@ -115,8 +115,8 @@ impl<'a> ULog<'a> {
         };
         let mut started = false;
         loop {
-            framer.plain_data_run(data, 0, |offset, sub, payload| {
-                b.data(offset, sub.index(), payload);
+            framer.plain_data_run(data, 0, |offset, sub, _, payload| {
+                b.data(offset, sub as usize, payload);
                 true
             });
             let step = framer.step(data, 0, true)?;

@@ -98,6 +98,7 @@ pub(crate) struct Driver {
 fn hand_out<F>(
     skip: &mut Vec<bool>,
     offset: u64,
+    sub: u32,
     topic: &Subscription,
     payload: &[u8],
     f: &mut F,
@@ -105,7 +106,7 @@ fn hand_out<F>(
 where
     F: FnMut(DataRecord<'_>) -> Hand,
 {
-    if skip.get(topic.index()) == Some(&true) {
+    if skip.get(sub as usize) == Some(&true) {
         return true;
     }
     // Framing checked that a data message holds its msg_id.
@@ -155,9 +156,9 @@ impl Driver {
             let mut go_on = true;
             let skip = &mut self.skip;
             self.framer
-                .plain_data_run(win, base, |offset, topic, payload| {
+                .plain_data_run(win, base, |offset, sub, topic, payload| {
                     n += 1;
-                    go_on = hand_out(skip, offset, topic, payload, f);
+                    go_on = hand_out(skip, offset, sub, topic, payload, f);
                     go_on
                 });
             self.messages += n;
@@ -172,7 +173,7 @@ impl Driver {
                         self.data += 1;
                         let payload = r.payload(win, base);
                         let topic = &self.framer.defs.subscriptions()[sub as usize];
-                        if !hand_out(&mut self.skip, r.offset, topic, payload, f) {
+                        if !hand_out(&mut self.skip, r.offset, sub, topic, payload, f) {
                             return Ok(self.stop());
                         }
                     }

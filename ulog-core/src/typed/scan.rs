@@ -89,32 +89,35 @@ where
 {
     let mut plans = Plans::<E>::new();
     let raw_others = options.raw_others;
-    let mut hand = |r: DataRecord<'_>, timestamp: Option<u64>| -> Hand {
-        let record = |message| TopicRecord {
-            offset: r.offset,
-            topic: r.topic,
-            timestamp,
-            payload: r.payload,
-            message,
-        };
-        let go_on = match plans.get(r.topic) {
+    // By reference: a copy of the record into the call cost a stalled load per record.
+    let mut hand = |r: &DataRecord<'_>, timestamp: Option<u64>| -> Hand {
+        // One call of `f` on the hot path (so that it can be inlined there); the
+        // first record of a topic that does not fit goes the cold way.
+        // The record is built where it is handed over, in one move from the
+        // decoder's result: every extra move of a decoded message through
+        // `Option`/`Result` layers cost a stalled copy per record (bench/README.md).
+        let item = match plans.get(r.topic) {
             Ok(Some(plan)) => match E::decode(plan, r.payload) {
-                Ok(message) => f(Ok(record(Some(message)))).go_on(),
-                Err(e) => f(Err(TypedError::decode(r.topic, r.offset, e))).go_on(),
+                Ok(message) => Ok(TopicRecord {
+                    offset: r.offset,
+                    topic: r.topic,
+                    timestamp,
+                    payload: r.payload,
+                    message: Some(message),
+                }),
+                Err(e) => Err(TypedError::decode(r.topic, r.offset, e)),
             },
-            Ok(None) if raw_others => f(Ok(record(None))).go_on(),
+            Ok(None) if raw_others => Ok(TopicRecord {
+                offset: r.offset,
+                topic: r.topic,
+                timestamp,
+                payload: r.payload,
+                message: None,
+            }),
             Ok(None) => return Hand::SkipTopic,
-            Err(e) => {
-                if !f(Err(e)).go_on() {
-                    return Hand::Stop;
-                }
-                if !raw_others {
-                    return Hand::SkipTopic;
-                }
-                f(Ok(record(None))).go_on()
-            }
+            Err(e) => return unfit(e, r, timestamp, raw_others, &mut f),
         };
-        if go_on {
+        if f(item).go_on() {
             Hand::Next
         } else {
             Hand::Stop
@@ -131,9 +134,48 @@ where
                 }
                 let u = unwrap[i].get_or_insert_with(|| Unwrapper::new(r.topic.timestamp_field()));
                 let timestamp = u.push(r.payload);
-                hand(r, timestamp)
+                hand(&r, timestamp)
             })
         }
-        ScanOrder::Timestamp => time_ordered(source.into(), &mut hand),
+        ScanOrder::Timestamp => time_ordered(source.into(), &mut |r, t| hand(&r, t)),
+    }
+}
+
+/// What [`scan_topics`] hands records to, as a trait object on its cold path.
+trait Handler<E, R>: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R {}
+
+impl<E, R, F: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R> Handler<E, R> for F {}
+
+/// The first record of a subscription whose format does not fit its variant (or
+/// cannot be laid out): the error, then (with `raw_others`) the record undecoded.
+#[cold]
+#[inline(never)]
+fn unfit<E, R>(
+    e: TypedError,
+    r: &DataRecord<'_>,
+    timestamp: Option<u64>,
+    raw_others: bool,
+    f: &mut dyn Handler<E, R>,
+) -> Hand
+where
+    R: ScanFlow,
+{
+    if !f(Err(e)).go_on() {
+        return Hand::Stop;
+    }
+    if !raw_others {
+        return Hand::SkipTopic;
+    }
+    let record = TopicRecord {
+        offset: r.offset,
+        topic: r.topic,
+        timestamp,
+        payload: r.payload,
+        message: None,
+    };
+    if f(Ok(record)).go_on() {
+        Hand::Next
+    } else {
+        Hand::Stop
     }
 }

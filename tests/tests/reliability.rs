@@ -1,0 +1,190 @@
+//! Damage that used to lose data (issue: reliability), each on bytes that reproduce
+//! it, against pyulog where it reads the same bytes: the rows we keep are a superset
+//! of pyulog's.
+
+use ulog_core::read::{FindingKind, ReadErrorKind};
+use ulog_core::testing::LogBuilder;
+use ulog_core::{ScanOptions, Source, ULog};
+use ulog_tests::pyulog_dump;
+
+const FORMAT: &str = "t:uint64_t timestamp;uint32_t a;uint32_t b;";
+
+fn row(i: u64) -> Vec<u8> {
+    let mut p = (1_000 + i * 100).to_le_bytes().to_vec();
+    p.extend_from_slice(&(i as u32).to_le_bytes());
+    p.extend_from_slice(&(i as u32 * 3).to_le_bytes());
+    p
+}
+
+/// A v1 log with one topic `t` (msg_id 0) and its flag bits.
+fn start() -> LogBuilder {
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [0; 8], [0; 3]);
+    b.format(FORMAT);
+    b.subscribe(0, 0, "t");
+    b
+}
+
+fn rows_of(log: &ULog<'_>) -> usize {
+    log.topic("t", 0).map_or(0, |t| t.len())
+}
+
+/// pyulog's row count of `t/0`, or `None` without pyulog.
+fn pyulog_rows(test: &str, bytes: &[u8]) -> Option<(usize, serde_json::Value)> {
+    let py = pyulog_dump(test, bytes)?;
+    let rows = py["topics"]["t/0"]["timestamp"]
+        .as_array()
+        .map_or(0, |a| a.len());
+    Some((rows, py))
+}
+
+#[test]
+fn a_log_level_outside_0_to_7_keeps_the_string_and_the_rows_after_it() {
+    let mut b = start();
+    for i in 0..1_000u64 {
+        b.data(0, &row(i));
+        if i % 2 == 0 {
+            // Every second logged string with a level byte that is not '0'..'7'.
+            let level = if i % 4 == 0 { b'x' } else { b'6' };
+            b.log(level, 1_000 + i * 100, &format!("string {i}"));
+        }
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert!(log.findings().is_empty(), "{:?}", log.findings());
+    assert_eq!(rows_of(&log), 1_000);
+    assert_eq!(log.logged_messages().len(), 500);
+    let odd = log
+        .logged_messages()
+        .iter()
+        .filter(|m| m.raw_level == b'x')
+        .count();
+    assert_eq!(odd, 250);
+    assert!(log.logged_messages()[0].level().is_none());
+    let Some((rows, py)) = pyulog_rows("bad_level", &bytes) else {
+        return;
+    };
+    assert_eq!(rows, 1_000);
+    assert_eq!(py["logged"].as_array().unwrap().len(), 500);
+}
+
+#[test]
+fn a_key_that_is_not_type_name_does_not_swallow_what_follows_a_damaged_stretch() {
+    let mut b = start();
+    for i in 0..200u64 {
+        b.data(0, &row(i));
+    }
+    let mut bytes = b.bytes().to_vec();
+    let bounds = b.boundaries().to_vec();
+    // Overwrite 64 bytes from the start of data message 50 (each is 21 bytes): at 5
+    // bytes in, an information message whose key is binary with a space in it, sized
+    // to end exactly where a real message starts 20 messages on (so that the messages
+    // after it frame, as happened in a real log).
+    let first_data = bounds.len() - 1 - 200;
+    let p = bounds[first_data + 50];
+    let target = bounds[first_data + 70];
+    let mut garbage = vec![0xff; 64];
+    let size = (target - (p + 5) - 3) as u16;
+    garbage[5..7].copy_from_slice(&size.to_le_bytes());
+    garbage[7] = b'I';
+    garbage[8] = 8;
+    garbage[9..17].copy_from_slice(b"\x01\x02 \x88\x99\xaa\xbb\xcc");
+    bytes[p..p + 64].copy_from_slice(&garbage);
+
+    let log = ULog::parse(&bytes).unwrap();
+    // Every message that does not overlap the 64 bytes is kept.
+    let damaged = (first_data + 50..bounds.len() - 1)
+        .filter(|&k| bounds[k] < p + 64)
+        .count();
+    assert_eq!(rows_of(&log), 200 - damaged, "{:?}", log.findings());
+    assert!(
+        log.info().is_empty(),
+        "no information message taken from the garbage"
+    );
+    let f = &log.findings()[0];
+    assert_eq!(f.offset, p as u64);
+    assert!(f.offset + f.len <= (p + 64) as u64 + 21, "{f:?}");
+    if let Some((rows, _)) = pyulog_rows("binary_key", &bytes) {
+        assert!(
+            rows <= rows_of(&log),
+            "pyulog {rows}, ours {}",
+            rows_of(&log)
+        );
+    }
+}
+
+#[test]
+fn an_appended_offset_past_the_end_is_reported_where_the_flag_bits_hold_it() {
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [1, 0, 0, 0, 0, 0, 0, 0], [u64::MAX, 0, 0]);
+    b.format(FORMAT);
+    b.subscribe(0, 0, "t");
+    for i in 0..10 {
+        b.data(0, &row(i));
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert_eq!(rows_of(&log), 10);
+    let f = log
+        .findings()
+        .iter()
+        .find(|f| f.kind == FindingKind::InvalidAppendedOffset(u64::MAX))
+        .expect("the offset is reported");
+    // The header (16), the flag bits' message header (3), the compat and incompat
+    // bytes (16): the first appended offset.
+    assert_eq!(f.offset, 16 + 3 + 16);
+    assert!(!f.to_string().contains("18446744073709551615 ("), "{f}");
+}
+
+#[test]
+fn a_file_that_changes_between_the_passes_of_a_shared_load_is_an_error_not_a_panic() {
+    let mut b = start();
+    for i in 0..20_000u64 {
+        b.data(0, &row(i));
+    }
+    let original = b.into_bytes();
+    let dir = std::env::temp_dir().join(format!("ulog-changing-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("changing.ulg");
+    std::fs::write(&path, &original).unwrap();
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let (mut ok, mut changed) = (0, 0);
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            let mut n = 0u64;
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                n += 1;
+                let cut = (n * 7919) % original.len() as u64;
+                let _ = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(&path)
+                    .and_then(|f| f.set_len(cut));
+                let _ = std::fs::write(&path, &original);
+            }
+        });
+        for _ in 0..200 {
+            let options = ScanOptions::default().threads(2);
+            match ulog_core::load_columns(Source::file(&path), &options) {
+                Ok(_) => ok += 1,
+                Err(e) => {
+                    assert!(
+                        matches!(
+                            e.kind(),
+                            ReadErrorKind::Changed
+                                | ReadErrorKind::Empty
+                                | ReadErrorKind::TruncatedHeader { .. }
+                        ),
+                        "{e}"
+                    );
+                    changed += 1;
+                }
+            }
+        }
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    });
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(ok + changed, 200);
+    eprintln!(
+        "200 shared loads of a changing file: {ok} read, {changed} refused as changed or empty"
+    );
+}
