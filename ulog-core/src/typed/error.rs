@@ -244,6 +244,8 @@ impl TypedError {
     }
 
     /// A payload of `topic`'s data message at `offset` that could not be decoded.
+    #[cold]
+    #[inline(never)]
     pub(crate) fn decode(topic: &Subscription, offset: u64, e: DecodeError) -> TypedError {
         TypedError::new(TypedErrorKind::Decode(e), Some(topic), Some(offset))
     }
