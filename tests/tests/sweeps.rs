@@ -11,24 +11,9 @@
 //! afresh; a sample of the other cuts is read afresh too, and must agree.
 
 use ulog_core::read::{FindingKind, MessageAt, Messages};
+use ulog_core::testing::Rng;
 use ulog_core::Finding;
 use ulog_tests::{corpus_files, stem};
-
-/// A small deterministic generator (xorshift64*), so every run sweeps the same cuts.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 type Framed<'a> = (Vec<MessageAt<'a>>, Vec<Finding>);
 
@@ -221,7 +206,7 @@ fn truncation_sweep(name: &str, bytes: &[u8], rng: &mut Rng) -> Sweep {
 #[test]
 fn every_log_cut_at_every_boundary_every_early_byte_and_random_offsets() {
     let files = corpus_files("every_log_cut_at_every_boundary_every_early_byte_and_random_offsets");
-    let mut rng = Rng(0x5eed_0001);
+    let mut rng = Rng::new(0x5eed_0001);
     let (mut cuts, mut fresh, mut verified) = (0, 0, 0);
     for path in &files {
         let bytes = std::fs::read(path).unwrap();
@@ -311,7 +296,7 @@ fn damage(
         }
         Damage::Garbage => {
             let n = 1 + rng.below(200);
-            let garbage: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
+            let garbage: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
             out.splice(start..start, garbage);
             let mut kept = before;
             kept.extend(shifted(n as isize, i));
@@ -375,7 +360,7 @@ fn same_message(a: &ulog_core::Message<'_>, b: &ulog_core::Message<'_>) -> bool 
 #[test]
 fn corruption_of_every_kind_at_random_places_in_every_log() {
     let files = corpus_files("corruption_of_every_kind_at_random_places_in_every_log");
-    let mut rng = Rng(0x5eed_0002);
+    let mut rng = Rng::new(0x5eed_0002);
     let kinds = [
         Damage::HeaderBitFlip,
         Damage::ZeroRun,

@@ -213,6 +213,7 @@ mod oracle;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ulog_core::testing::Rng;
 
     fn f32s(v: f32) -> String {
         let mut out = Vec::new();
@@ -284,18 +285,6 @@ mod tests {
         }
     }
 
-    /// A small deterministic generator (xorshift64*), so failures repeat.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        }
-    }
-
     /// The significant digits of a number's text (`"-0.00120e+05"` → `"12"`).
     fn significant(text: &str) -> String {
         let mantissa = text.split('e').next().unwrap_or_default();
@@ -340,13 +329,13 @@ mod tests {
     /// exactly halfway between two shortest candidates, where numpy takes the even one.
     #[test]
     fn f32_agrees_with_the_old_formatter() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
         for _ in 0..400_000 {
-            same_f32(f32::from_bits(rng.next() as u32));
+            same_f32(f32::from_bits(rng.next_u64() as u32));
         }
         let mut ties = 0;
         for _ in 0..200_000 {
-            let r = rng.next();
+            let r = rng.next_u64();
             let n = (r >> 40) as u32 & 0xff_ffff;
             let j = (r % 60) as i32 - 20;
             ties += usize::from(same_f32(n as f32 * 2f32.powi(-j)));
@@ -367,15 +356,15 @@ mod tests {
 
     #[test]
     fn f64_agrees_with_the_old_formatter() {
-        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
         let mut ties = 0;
         for _ in 0..200_000 {
-            same_f64(f64::from_bits(rng.next()));
+            same_f64(f64::from_bits(rng.next_u64()));
         }
         for _ in 0..100_000 {
-            let r = rng.next();
+            let r = rng.next_u64();
             let n = r >> 11;
-            let j = (rng.next() % 140) as i32 - 40;
+            let j = (rng.next_u64() % 140) as i32 - 40;
             ties += usize::from(same_f64(n as f64 * 2f64.powi(-j)));
             // Short decimals, as sensors and parameters hold them.
             let short = (r % 1_000_000) as f64 * 10f64.powi(j % 20);

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use ulog_core::testing::LogBuilder;
+use ulog_core::testing::{LogBuilder, Rng};
 
 /// A log of about 4 MB: a few topics, logged strings, parameter changes.
 fn big_log() -> Vec<u8> {
@@ -44,39 +44,27 @@ fn big_log() -> Vec<u8> {
     b.into_bytes()
 }
 
-/// A small deterministic generator (xorshift64*), so failures repeat.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-}
-
 /// Changes the file at `path` (of `len` bytes at first) until `stop`: truncations to
 /// any length, extensions with garbage, rewrites of stretches in place.
 fn mutate(path: &Path, original: &[u8], stop: &AtomicBool, seed: u64) {
-    let mut rng = Rng(seed | 1);
+    let mut rng = Rng::new(seed | 1);
     let len = original.len() as u64;
     while !stop.load(Ordering::Relaxed) {
         let Ok(mut f) = std::fs::OpenOptions::new().write(true).open(path) else {
             continue;
         };
-        match rng.next() % 4 {
+        match rng.next_u64() % 4 {
             0 => {
-                let _ = f.set_len(rng.next() % len);
+                let _ = f.set_len(rng.next_u64() % len);
             }
             1 => {
-                let at = rng.next() % len;
-                let garbage: Vec<u8> = (0..4096).map(|_| rng.next() as u8).collect();
+                let at = rng.next_u64() % len;
+                let garbage: Vec<u8> = (0..4096).map(|_| rng.next_u64() as u8).collect();
                 let _ = f.seek(SeekFrom::Start(at));
                 let _ = f.write_all(&garbage);
             }
             2 => {
-                let _ = f.set_len(len + rng.next() % 65_536);
+                let _ = f.set_len(len + rng.next_u64() % 65_536);
             }
             _ => {
                 // Back to the original, to be cut again while it is read.

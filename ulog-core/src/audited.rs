@@ -1,6 +1,8 @@
-//! Every `unsafe` block of the crate, each with the argument that makes it sound: a
-//! memory map (`LogFile::map`), a prefetch hint, and the cast behind typed views (with the unsafe
-//! marker trait it rests on). The rest of the crate is `#![deny(unsafe_code)]`.
+//! The crate's `unsafe` code, each block with the argument that makes it sound: a
+//! memory map, a prefetch hint, and the cast behind typed views (with the unsafe
+//! marker trait it rests on). The rest of the crate is `#![deny(unsafe_code)]`; the
+//! one exception is `LogFile::map`, an `unsafe fn` whose call of [`map`] passes the
+//! map's contract on to its caller.
 
 /// Asks the processor for the cache line holding `bytes[at]`, which will be read soon
 /// (nothing if `at` is past the end, or on targets other than x86_64). Framing asks
@@ -36,41 +38,17 @@ pub(crate) fn prefetch_span(bytes: &[u8], at: usize, len: usize) {
     }
 }
 
+/// Maps `file` read-only.
+///
+/// # Safety
+///
+/// The file must not be truncated or written while the map lives (see
+/// [`LogFile::map`](crate::LogFile::map), whose contract this is).
 #[cfg(feature = "mmap")]
-impl crate::LogFile {
-    /// Maps the file at `path` read-only instead of reading it ([`LogFile::open`](crate::LogFile::open)):
-    /// no copy of the file, and only the pages the reader touches are read, which
-    /// saves the time and memory of the copy on large logs (BENCHMARKS.md).
-    ///
-    /// # Safety
-    ///
-    /// The file must not be truncated or written, by this process or another, while
-    /// the returned `LogFile` (or anything borrowed from it) lives. A truncated file
-    /// kills the process with `SIGBUS` when the reader touches a page past the new
-    /// end, and bytes that change under a borrowed `&[u8]` break what Rust promises
-    /// about it. Use it for files nothing else writes (a log copied off the vehicle,
-    /// not one a logger or a sync tool may still change).
-    pub unsafe fn map(
-        path: impl AsRef<std::path::Path>,
-    ) -> Result<crate::LogFile, crate::ReadError> {
-        use crate::log::file::Bytes;
-        let path = path.as_ref();
-        let io = |e: std::io::Error| crate::ReadError::io(e, None).in_file(path);
-        let file = std::fs::File::open(path).map_err(io)?;
-        let bytes = if file.metadata().map_err(io)?.len() == 0 {
-            // Mapping an empty file fails on some systems; an empty buffer is the same.
-            Bytes::Read(Vec::new())
-        } else {
-            // SAFETY: read-only, and owned by the `LogFile` that every borrow of its
-            // bytes is tied to; that the file does not change while it is mapped is
-            // this function's contract with its caller.
-            Bytes::Mapped(unsafe { memmap2::Mmap::map(&file) }.map_err(io)?)
-        };
-        Ok(crate::LogFile {
-            bytes,
-            path: path.to_owned(),
-        })
-    }
+pub(crate) unsafe fn map(file: &std::fs::File) -> std::io::Result<memmap2::Mmap> {
+    // SAFETY: read-only; that the file does not change while it is mapped is the
+    // caller's contract, passed on from `LogFile::map`.
+    unsafe { memmap2::Mmap::map(file) }
 }
 
 /// A binding whose memory is its wire image, so that payload bytes can be borrowed as

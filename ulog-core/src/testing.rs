@@ -175,6 +175,42 @@ impl LogBuilder {
     }
 }
 
+/// A small deterministic generator (xorshift64*) for tests that sweep inputs: the
+/// same seed gives the same sequence, so a failure repeats.
+///
+/// ```
+/// let mut a = ulog_core::testing::Rng::new(7);
+/// let mut b = ulog_core::testing::Rng::new(7);
+/// assert_eq!(a.next_u64(), b.next_u64());
+/// assert!(a.below(10) < 10);
+/// ```
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from `seed` (0 is replaced: xorshift never leaves 0).
+    pub fn new(seed: u64) -> Rng {
+        Rng(if seed == 0 {
+            0x9e37_79b9_7f4a_7c15
+        } else {
+            seed
+        })
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    /// A number in `0..n` (0 when `n` is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n.max(1) as u64) as usize
+    }
+}
+
 /// A small, valid, version-1 log of a short simulated flight: flag bits, information,
 /// parameters and defaults, nested and multi-instance topics with trailing padding,
 /// logged and tagged strings, a parameter change, a dropout and sync messages. Used by

@@ -26,11 +26,11 @@ use crate::log::ulog::ULog;
 /// # Ok::<(), ulog_core::ReadError>(())
 /// ```
 pub struct LogFile {
-    pub(crate) bytes: Bytes,
-    pub(crate) path: PathBuf,
+    bytes: Bytes,
+    path: PathBuf,
 }
 
-pub(crate) enum Bytes {
+enum Bytes {
     #[cfg(feature = "mmap")]
     Mapped(memmap2::Mmap),
     Read(Vec<u8>),
@@ -43,6 +43,37 @@ impl LogFile {
         let bytes = std::fs::read(path).map_err(|e| ReadError::io(e, None).in_file(path))?;
         Ok(LogFile {
             bytes: Bytes::Read(bytes),
+            path: path.to_owned(),
+        })
+    }
+
+    /// Maps the file at `path` read-only instead of reading it ([`LogFile::open`]): no
+    /// copy of the file, and only the pages the reader touches are read, which saves
+    /// the time and memory of the copy on large logs (bench/README.md).
+    ///
+    /// # Safety
+    ///
+    /// The file must not be truncated or written, by this process or another, while
+    /// the returned `LogFile` (or anything borrowed from it) lives. A truncated file
+    /// kills the process with `SIGBUS` when the reader touches a page past the new
+    /// end, and bytes that change under a borrowed `&[u8]` break what Rust promises
+    /// about it. Use it for files nothing else writes (a log copied off the vehicle,
+    /// not one a logger or a sync tool may still change).
+    #[cfg(feature = "mmap")]
+    #[allow(unsafe_code)]
+    pub unsafe fn map(path: impl AsRef<Path>) -> Result<LogFile, ReadError> {
+        let path = path.as_ref();
+        let io = |e: std::io::Error| ReadError::io(e, None).in_file(path);
+        let file = std::fs::File::open(path).map_err(io)?;
+        let bytes = if file.metadata().map_err(io)?.len() == 0 {
+            // Mapping an empty file fails on some systems; an empty buffer is the same.
+            Bytes::Read(Vec::new())
+        } else {
+            // SAFETY: the file does not change while mapped: this function's contract.
+            Bytes::Mapped(unsafe { crate::audited::map(&file) }.map_err(io)?)
+        };
+        Ok(LogFile {
+            bytes,
             path: path.to_owned(),
         })
     }

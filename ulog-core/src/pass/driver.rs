@@ -71,6 +71,18 @@ pub(crate) enum Hand {
     Stop,
 }
 
+impl Hand {
+    /// [`Hand::Next`] when the callback said go on, else [`Hand::Stop`].
+    #[inline(always)]
+    pub(crate) fn go_on(go_on: bool) -> Hand {
+        if go_on {
+            Hand::Next
+        } else {
+            Hand::Stop
+        }
+    }
+}
+
 /// How a window's run of the driver ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Ran {

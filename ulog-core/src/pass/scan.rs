@@ -159,11 +159,10 @@ where
 {
     // `f` called from each order's own closure (one closure shared by both kept it
     // out of line).
-    let flow = |go_on: bool| if go_on { Hand::Next } else { Hand::Stop };
     match options.order {
         ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r| {
-            flow(f(r).go_on())
+            Hand::go_on(f(r).go_on())
         }),
-        ScanOrder::Timestamp => time_ordered(source.into(), &mut |r, _| flow(f(r).go_on())),
+        ScanOrder::Timestamp => time_ordered(source.into(), &mut |r, _| Hand::go_on(f(r).go_on())),
     }
 }

@@ -115,10 +115,10 @@ where
 }
 
 /// One record of [`scan_topics`]: planned, decoded, handed to `f`. Inlined into
-/// each order's loop, so that `f` has one call site in each and can be inlined there
-/// (a closure shared by both orders kept `f` out of line: 1.3× the time of the typed
-/// benchmark). The record goes by reference and is built where it is handed over:
-/// each extra move of a record or decoded message cost a stalled copy per record.
+/// each order's loop, so that `f` has one direct call site (the file-order loop) and
+/// can be inlined there; the record goes by reference and is built where it is
+/// handed over, since each extra move of a decoded message is a copy per record
+/// (bench/README.md has what each cost).
 #[inline(always)]
 fn hand<E, F, R>(
     plans: &mut Plans<E>,
@@ -134,34 +134,35 @@ where
 {
     let item = match plans.get(r.topic) {
         Ok(Some(plan)) => match E::decode(plan, r.payload) {
-            Ok(message) => Ok(TopicRecord {
-                offset: r.offset,
-                topic: r.topic,
-                timestamp,
-                payload: r.payload,
-                message: Some(message),
-            }),
+            Ok(message) => Ok(record(r, timestamp, Some(message))),
             Err(e) => Err(TypedError::decode(r.topic, r.offset, e)),
         },
-        Ok(None) if raw_others => Ok(TopicRecord {
-            offset: r.offset,
-            topic: r.topic,
-            timestamp,
-            payload: r.payload,
-            message: None,
-        }),
+        Ok(None) if raw_others => Ok(record(r, timestamp, None)),
         Ok(None) => return Hand::SkipTopic,
         // The first record of a topic that does not fit goes the cold way.
         Err(e) => return unfit(e, r, timestamp, raw_others, f),
     };
-    if f(item).go_on() {
-        Hand::Next
-    } else {
-        Hand::Stop
+    Hand::go_on(f(item).go_on())
+}
+
+/// The record of `r` handed to the caller.
+#[inline(always)]
+fn record<'r, E>(
+    r: &DataRecord<'r>,
+    timestamp: Option<u64>,
+    message: Option<E>,
+) -> TopicRecord<'r, E> {
+    TopicRecord {
+        offset: r.offset,
+        topic: r.topic,
+        timestamp,
+        payload: r.payload,
+        message,
     }
 }
 
-/// What [`scan_topics`] hands records to, as a trait object on its cold path.
+/// What [`scan_topics`] hands records to: named so that the time-order loop can
+/// take it as a trait object.
 trait Handler<E, R>: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R {}
 
 impl<E, R, F: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R> Handler<E, R> for F {}
@@ -187,16 +188,5 @@ where
     if !raw_others {
         return Hand::SkipTopic;
     }
-    let record = TopicRecord {
-        offset: r.offset,
-        topic: r.topic,
-        timestamp,
-        payload: r.payload,
-        message: None,
-    };
-    if f(Ok(record)).go_on() {
-        Hand::Next
-    } else {
-        Hand::Stop
-    }
+    Hand::go_on(f(Ok(record(r, timestamp, None))).go_on())
 }
