@@ -1,24 +1,25 @@
-//! Finds the shared corpus of real logs (`../../shared/corpus/files` from this
-//! package) and, when it is there, writes the `ulog_module!` invocations of the
-//! typed corpus tests: one module per log, the logs dealt round-robin into shards so
-//! that the test crates (`tests/typed_corpus_N.rs`) compile in parallel. Sets
-//! `cfg(has_corpus)`; without the corpus the tests compile and say they skipped.
+//! Probes the corpus of real logs and pyulog for the tests (`probe.rs`: the one rule
+//! of `ulog_tests::corpus_dir` and of `cfg(full_corpus)` and `cfg(pyulog)`), then
+//! writes the `ulog_module!` invocations of the typed corpus tests: one module per
+//! log, the logs dealt round-robin into shards so that the test crates
+//! (`tests/typed_corpus_N.rs`) compile in parallel.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The number of `typed_corpus_N.rs` test crates the logs are dealt into.
 const SHARDS: usize = 4;
-/// The corpus, relative to this package (`ulog_module!` paths are too).
-const CORPUS_FILES: &str = "../../shared/corpus/files";
+/// The full shared corpus, relative to this package.
+const SHARED: &str = "../../shared/corpus";
+/// The repository's own logs, relative to this package.
+const OWN: &str = "corpus";
+
+include!("probe.rs");
 
 fn main() {
-    println!("cargo::rustc-check-cfg=cfg(has_corpus)");
-    println!("cargo::rerun-if-changed=build.rs");
-    println!("cargo::rerun-if-changed={CORPUS_FILES}");
-    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR");
     let out = std::env::var("OUT_DIR").expect("OUT_DIR");
-    let dir = Path::new(&manifest).join(CORPUS_FILES);
+    let corpus = probe(SHARED, OWN);
+    let dir = corpus.join("files");
     let mut stems: Vec<String> = match std::fs::read_dir(&dir) {
         Ok(entries) => entries
             .filter_map(Result::ok)
@@ -29,9 +30,6 @@ fn main() {
         Err(_) => Vec::new(),
     };
     stems.sort();
-    if !stems.is_empty() {
-        println!("cargo::rustc-cfg=has_corpus");
-    }
     for shard in 0..SHARDS {
         let mut code = String::new();
         let mut table = String::new();
@@ -40,11 +38,10 @@ fn main() {
             .enumerate()
             .filter(|(i, _)| i % SHARDS == shard)
         {
-            // Paths stay relative: the macro resolves them from CARGO_MANIFEST_DIR.
             writeln!(
                 code,
                 "ulog_core::ulog_module!(pub mod log{i} = {:?});",
-                format!("{CORPUS_FILES}/{stem}.ulg")
+                dir.join(format!("{stem}.ulg"))
             )
             .unwrap();
             writeln!(
@@ -76,7 +73,7 @@ fn main() {
         writeln!(
             code,
             "ulog_core::ulog_module!(views; pub mod log{i} = {:?});",
-            format!("{CORPUS_FILES}/{stem}.ulg")
+            dir.join(format!("{stem}.ulg"))
         )
         .unwrap();
         writeln!(table, "        {stem:?} => log{i}::visit_views(checker),").unwrap();

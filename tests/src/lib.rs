@@ -5,23 +5,27 @@ use std::path::{Path, PathBuf};
 
 use ulog_core::Value;
 
-/// The shared corpus (`../shared/corpus` beside the workspace), or `ULOG_CORPUS` if
-/// set. `None` when absent: tests then say they skipped.
-pub fn corpus_dir() -> Option<PathBuf> {
-    let dir = match std::env::var_os("ULOG_CORPUS") {
-        Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus"),
-    };
-    dir.join("files").is_dir().then_some(dir)
+/// The corpus of real logs the tests check (`files/` and pyulog's `expected/`), as
+/// `build.rs` picked it: `$ULOG_CORPUS`, else the full shared corpus beside the
+/// workspace (`../shared/corpus`), else the repository's own logs (`tests/corpus`).
+pub fn corpus_dir() -> PathBuf {
+    PathBuf::from(env!("ULOG_TESTS_CORPUS"))
 }
 
-/// Every `.ulg` file of the corpus, sorted by name; prints a skip note and returns an
-/// empty list when the corpus is absent.
-pub fn corpus_files(test: &str) -> Vec<PathBuf> {
-    let Some(dir) = corpus_dir() else {
-        eprintln!("{test}: SKIPPED, no shared corpus (../shared/corpus or ULOG_CORPUS)");
-        return Vec::new();
-    };
+/// Whether [`corpus_dir`] is the full corpus (tests that need one of its logs are
+/// `ignore`d otherwise, by `cfg(full_corpus)`).
+pub const FULL_CORPUS: bool = cfg!(full_corpus);
+
+/// A log of the repository's own corpus (`tests/corpus/files`), there on every clone.
+pub fn own_log(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("corpus/files")
+        .join(name)
+}
+
+/// Every `.ulg` file of the corpus, sorted by name.
+pub fn corpus_files() -> Vec<PathBuf> {
+    let dir = corpus_dir();
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("files"))
         .expect("corpus files dir")
         .map(|e| e.expect("dir entry").path())
@@ -41,7 +45,7 @@ pub fn stem(path: &Path) -> String {
 
 /// pyulog's `summary.json` for a corpus file.
 pub fn expected_summary(path: &Path) -> serde_json::Value {
-    let dir = corpus_dir().expect("corpus");
+    let dir = corpus_dir();
     let p = dir.join("expected").join(stem(path)).join("summary.json");
     let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     serde_json::from_str(&text).expect("summary.json parses")
@@ -131,17 +135,11 @@ pub fn recovered_stretches(log: &ulog_core::ULog<'_>) -> Vec<(u64, u64)> {
 
 /// pyulog's reading of `bytes` (written to a scratch file) as JSON
 /// (`scripts/pyulog_dump.py`: information, parameters, logged strings, dropouts, each
-/// data set's columns), or `None` after saying SKIPPED when `python3` cannot import
-/// pyulog.
-pub fn pyulog_dump(test: &str, bytes: &[u8]) -> Option<serde_json::Value> {
+/// data set's columns). Tests that call it are `ignore`d where `python3` could not
+/// import pyulog when they were built (`cfg(pyulog)`, see `build.rs`):
+/// `#[cfg_attr(not(pyulog), ignore = "needs pyulog")]`.
+pub fn pyulog_dump(test: &str, bytes: &[u8]) -> serde_json::Value {
     use std::process::Command;
-    let ok = Command::new("python3")
-        .args(["-c", "import pyulog"])
-        .output();
-    if !ok.is_ok_and(|o| o.status.success()) {
-        eprintln!("{test}: SKIPPED, python3 cannot import pyulog (pip install pyulog==1.3.0)");
-        return None;
-    }
     let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("written.ulg");
@@ -158,5 +156,5 @@ pub fn pyulog_dump(test: &str, bytes: &[u8]) -> Option<serde_json::Value> {
         "pyulog failed: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    Some(serde_json::from_slice(&out.stdout).unwrap())
+    serde_json::from_slice(&out.stdout).unwrap()
 }

@@ -2,7 +2,7 @@
 //! agrees with the whole-file reader whatever the chunking.
 
 use proptest::prelude::*;
-use ulog_core::read::{MessageAt, Messages};
+use ulog_core::read::{FindingKind, MessageAt, Messages};
 use ulog_core::stream::{Progress, PushReader};
 use ulog_core::{Finding, ReadError, ULog};
 
@@ -52,12 +52,25 @@ fn check(bytes: &[u8], chunks: &[usize]) {
                 .collect();
             assert_eq!(wm, im);
             assert_eq!(wf, imf);
-            // The whole-log model builds too, and every indexed payload fits its format.
+            // The whole-log model builds too, and every indexed payload fits its format,
+            // or is longer (kept, read as the format's first bytes) and reported.
             let log = ULog::parse(bytes).unwrap();
             for t in log.topics() {
                 if let Ok(l) = t.layout() {
-                    for p in t.payloads() {
-                        assert!(l.accepts_len(p.len()));
+                    for (p, o) in t.payloads().zip(t.message_offsets()) {
+                        if l.accepts_len(p.len()) {
+                            continue;
+                        }
+                        assert!(p.len() > l.size(), "{} bytes at {o}", p.len());
+                        assert!(
+                            log.findings().iter().any(|f| matches!(
+                                f.kind,
+                                FindingKind::SizeMismatch { .. }
+                            ) && f.offset <= o
+                                && o < f.offset + f.len),
+                            "a longer payload at {o} not reported: {:?}",
+                            log.findings()
+                        );
                     }
                 }
             }

@@ -29,16 +29,20 @@ fn rows_of(log: &ULog<'_>) -> usize {
     log.topic("t", 0).map_or(0, |t| t.len())
 }
 
-/// pyulog's row count of `t/0`, or `None` without pyulog.
-fn pyulog_rows(test: &str, bytes: &[u8]) -> Option<(usize, serde_json::Value)> {
-    let py = pyulog_dump(test, bytes)?;
+/// pyulog's row count of `t/0`, and all it read.
+fn pyulog_rows(test: &str, bytes: &[u8]) -> (usize, serde_json::Value) {
+    let py = pyulog_dump(test, bytes);
     let rows = py["topics"]["t/0"]["timestamp"]
         .as_array()
         .map_or(0, |a| a.len());
-    Some((rows, py))
+    (rows, py)
 }
 
 #[test]
+#[cfg_attr(
+    not(pyulog),
+    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch tests/build.rs"
+)]
 fn a_log_level_outside_0_to_7_keeps_the_string_and_the_rows_after_it() {
     let mut b = start();
     for i in 0..1_000u64 {
@@ -61,14 +65,16 @@ fn a_log_level_outside_0_to_7_keeps_the_string_and_the_rows_after_it() {
         .count();
     assert_eq!(odd, 250);
     assert!(log.logged_messages()[0].level().is_none());
-    let Some((rows, py)) = pyulog_rows("bad_level", &bytes) else {
-        return;
-    };
+    let (rows, py) = pyulog_rows("bad_level", &bytes);
     assert_eq!(rows, 1_000);
     assert_eq!(py["logged"].as_array().unwrap().len(), 500);
 }
 
 #[test]
+#[cfg_attr(
+    not(pyulog),
+    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch tests/build.rs"
+)]
 fn a_key_that_is_not_type_name_does_not_swallow_what_follows_a_damaged_stretch() {
     let mut b = start();
     for i in 0..200u64 {
@@ -104,7 +110,8 @@ fn a_key_that_is_not_type_name_does_not_swallow_what_follows_a_damaged_stretch()
     let f = &log.findings()[0];
     assert_eq!(f.offset, p as u64);
     assert!(f.offset + f.len <= (p + 64) as u64 + 21, "{f:?}");
-    if let Some((rows, _)) = pyulog_rows("binary_key", &bytes) {
+    {
+        let (rows, _) = pyulog_rows("binary_key", &bytes);
         assert!(
             rows <= rows_of(&log),
             "pyulog {rows}, ours {}",
@@ -187,4 +194,142 @@ fn a_file_that_changes_between_the_passes_of_a_shared_load_is_an_error_not_a_pan
     eprintln!(
         "200 shared loads of a changing file: {ok} read, {changed} refused as changed or empty"
     );
+}
+
+/// Item 2: every data message of one topic 4 bytes longer than its format (a logger
+/// that writes a newer struct than its format says), between the messages of another
+/// topic. pyulog 1.3 keeps the other topic's rows and drops the long ones; we used to
+/// drop everything after the first long message as one damaged stretch. Now each
+/// long message is reported and kept (its format's bytes: the fields are where the
+/// format says), and the other topic loses nothing.
+#[test]
+#[cfg_attr(
+    not(pyulog),
+    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch tests/build.rs"
+)]
+fn every_message_of_a_topic_longer_than_its_format_keeps_its_rows() {
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [0; 8], [0; 3]);
+    b.format(FORMAT);
+    b.format("u:uint64_t timestamp;float x;");
+    b.subscribe(0, 0, "t");
+    b.subscribe(0, 1, "u");
+    for i in 0..1_000u64 {
+        let mut long = row(i);
+        long.extend_from_slice(&[0xAB; 4]);
+        b.data(0, &long);
+        let mut u = (1_050 + i * 100).to_le_bytes().to_vec();
+        u.extend_from_slice(&(i as f32).to_le_bytes());
+        b.data(1, &u);
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    let (pyulog_t, py) = pyulog_rows("longer_messages", &bytes);
+    let pyulog_u = py["topics"]["u/0"]["timestamp"].as_array().unwrap().len();
+    assert_eq!((pyulog_t, pyulog_u), (0, 1_000), "pyulog's rows");
+    assert_eq!(rows_of(&log), 1_000, "{:?}", &log.findings()[..3]);
+    assert_eq!(log.topic("u", 0).unwrap().len(), 1_000);
+    // The values are the format's bytes of each payload.
+    let t = log.topic("t", 0).unwrap();
+    let b_field = t.field("b").unwrap();
+    assert_eq!(
+        b_field.read(t.payload(999).unwrap()),
+        Some(ulog_core::Value::U32(999 * 3))
+    );
+    // Typed reading decodes them too.
+    #[derive(ulog_core::ULogMessage)]
+    #[ulog(name = "t")]
+    struct T {
+        timestamp: u64,
+        a: u32,
+        b: u32,
+    }
+    let typed: Vec<T> = log
+        .read::<T>(0)
+        .unwrap()
+        .iter()
+        .map(Result::unwrap)
+        .collect();
+    assert_eq!(typed.len(), 1_000);
+    assert_eq!((typed[7].timestamp, typed[7].a, typed[7].b), (1_700, 7, 21));
+    // All reported, as one size mismatch of msg_id 0 that happened 1,000 times, from
+    // the first long message to the end of the last.
+    let mismatches: Vec<_> = log
+        .findings()
+        .iter()
+        .filter(|f| matches!(f.kind, FindingKind::SizeMismatch { msg_id: 0, .. }))
+        .collect();
+    assert_eq!(mismatches.len(), 1, "{:?}", log.findings());
+    assert_eq!(mismatches[0].count, 1_000);
+    let first = t.message_offsets().get(0).unwrap();
+    assert_eq!(mismatches[0].offset, first);
+    assert!(
+        mismatches[0].to_string().contains("1000 times"),
+        "{}",
+        mismatches[0]
+    );
+    assert!(
+        !log.findings()
+            .iter()
+            .any(|f| matches!(f.kind, FindingKind::Corrupt(_))),
+        "{:?}",
+        log.findings()
+    );
+}
+
+/// Item 2: a format that no subscription uses refers to itself through another (a
+/// cycle): it cannot be laid out, but nothing reads it, so every row of the other
+/// topics is kept, as pyulog keeps them.
+#[test]
+#[cfg_attr(
+    not(pyulog),
+    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch tests/build.rs"
+)]
+fn an_unused_cyclic_format_loses_no_row() {
+    let mut b = LogBuilder::new(1, 0);
+    b.flag_bits([0; 8], [0; 8], [0; 3]);
+    b.format("cyc_a:uint64_t timestamp;cyc_b inner;");
+    b.format("cyc_b:uint64_t timestamp;cyc_a inner;");
+    b.format(FORMAT);
+    b.subscribe(0, 0, "t");
+    for i in 0..100u64 {
+        b.data(0, &row(i));
+        // And again in the data section, between the rows.
+        if i % 10 == 0 {
+            b.format("cyc_c:uint64_t timestamp;cyc_c inner;");
+        }
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    let (rows, _) = pyulog_rows("unused_cycle", &bytes);
+    assert_eq!(rows, 100, "pyulog's rows");
+    assert_eq!(rows_of(&log), 100, "{:?}", log.findings());
+}
+
+/// Item 8: a long run of sync markers (the magic bytes without message headers, as a
+/// faulty writer repeats them) is one damaged stretch, not one finding per marker;
+/// the rows after it are kept.
+#[test]
+fn a_run_of_repeated_sync_markers_is_one_finding() {
+    const MAGIC: [u8; 8] = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
+    let mut b = start();
+    for i in 0..10u64 {
+        b.data(0, &row(i));
+    }
+    let run = 100_000;
+    b.garbage(&MAGIC.repeat(run));
+    for i in 10..20u64 {
+        b.data(0, &row(i));
+    }
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert_eq!(rows_of(&log), 20, "{:?}", log.findings());
+    assert!(log.findings().len() <= 2, "{:?}", &log.findings()[..3]);
+    let damaged: u64 = log
+        .findings()
+        .iter()
+        .filter(|f| f.is_damage())
+        .map(|f| f.len)
+        .sum();
+    assert!(damaged >= (run as u64 - 1) * 8, "{damaged}");
 }

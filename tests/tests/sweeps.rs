@@ -205,7 +205,7 @@ fn truncation_sweep(name: &str, bytes: &[u8], rng: &mut Rng) -> Sweep {
 
 #[test]
 fn every_log_cut_at_every_boundary_every_early_byte_and_random_offsets() {
-    let files = corpus_files("every_log_cut_at_every_boundary_every_early_byte_and_random_offsets");
+    let files = corpus_files();
     let mut rng = Rng::new(0x5eed_0001);
     let (mut cuts, mut fresh, mut verified) = (0, 0, 0);
     for path in &files {
@@ -219,9 +219,7 @@ fn every_log_cut_at_every_boundary_every_early_byte_and_random_offsets() {
         "{} logs: {cuts} cuts ({fresh} read afresh, {verified} cross-checked)",
         files.len()
     );
-    if !files.is_empty() {
-        assert!(cuts > 500_000, "{cuts} cuts");
-    }
+    assert!(cuts > 100_000, "{cuts} cuts");
 }
 
 /// One kind of corruption, applied to a copy of a log.
@@ -359,7 +357,7 @@ fn same_message(a: &ulog_core::Message<'_>, b: &ulog_core::Message<'_>) -> bool 
 
 #[test]
 fn corruption_of_every_kind_at_random_places_in_every_log() {
-    let files = corpus_files("corruption_of_every_kind_at_random_places_in_every_log");
+    let files = corpus_files();
     let mut rng = Rng::new(0x5eed_0002);
     let kinds = [
         Damage::HeaderBitFlip,
@@ -451,7 +449,5 @@ fn corruption_of_every_kind_at_random_places_in_every_log() {
         }
     }
     eprintln!("{cases} corruptions checked");
-    if !files.is_empty() {
-        assert!(cases >= 100, "{cases}");
-    }
+    assert!(cases >= 100, "{cases}");
 }

@@ -8,7 +8,6 @@
 
 mod typed_corpus_common;
 
-#[cfg(has_corpus)]
 #[allow(dead_code, missing_docs)]
 mod bindings {
     use crate::typed_corpus_common::Checker;
@@ -17,7 +16,6 @@ mod bindings {
 
 #[test]
 fn view_bindings_borrow_every_row_of_real_logs() {
-    #[cfg(has_corpus)]
     {
         use std::collections::BTreeSet;
         use ulog_core::LogFile;
@@ -67,6 +65,4 @@ fn view_bindings_borrow_every_row_of_real_logs() {
         assert!(borrowed > 0);
         eprintln!("views: {borrowed} of {rows} rows borrowed in place");
     }
-    #[cfg(not(has_corpus))]
-    typed_corpus_common::skipped("view_bindings_borrow_every_row_of_real_logs");
 }

@@ -35,7 +35,11 @@ problems: [{severity, kind, offset, len, topic, multi_id, text}]}], \"exit_statu
 /// timestamps that go backwards or jump per topic, parameters without defaults, and
 /// more (see below). Prints a summary line per file, then its problems.
 #[derive(Debug, clap::Args)]
-#[command(after_help = AFTER_HELP)]
+#[command(
+    about = "Check logs against the ULog spec and report their damage",
+    long_about,
+    after_help = AFTER_HELP
+)]
 pub struct Args {
     /// The ULog files.
     #[arg(required = true)]

@@ -17,6 +17,7 @@ use crate::input;
 /// Formats that cannot be bound (they do not parse, or name unknown nested types) are
 /// left out and listed in the file's header comment and on stderr.
 #[derive(Debug, clap::Args)]
+#[command(about = "Rust bindings for every message format of a log", long_about)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,

@@ -5,8 +5,7 @@ use std::io::{self, Write};
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 
-use ulog_core::format::BasicType;
-use ulog_core::read::FieldShape;
+use ulog_core::format::{BasicType, LayoutField, LayoutType};
 use ulog_core::{LookupError, Topic};
 
 use crate::failure::{io_text, stdout_err, Failure};
@@ -18,14 +17,20 @@ use crate::pyfmt::{format_i64, format_numpy_f32, format_numpy_f64, format_u64, N
 /// (`/` in a topic name becomes `_`), exactly as pyulog's `ulog2csv` does: `timestamp`
 /// first, then the fields in format order; arrays as `a[i]`, nested fields as `a.b` and
 /// `a[i].b`; `char[N]` as one text column (bytes up to the first NUL, one character per
-/// byte); padding left out, nested padding too; booleans as their raw byte (as a signed
-/// int8, like pyulog); floats in numpy's shortest form.
+/// byte); the topic's own padding left out, that of nested types kept
+/// (`esc[0]._padding0[3]`, as ulog2csv writes it); booleans as their raw byte (as a
+/// signed int8, like pyulog); floats in numpy's shortest form.
 ///
 /// Differences from ulog2csv: data messages that this reader recovers after corruption
-/// (pyulog resynchronises later) are written; an unknown topic in `-m` is an error.
+/// (pyulog resynchronises later) are written; an unknown topic in `-m` is an error; the
+/// file stem drops `.ulog` as it drops `.ulg` (ulog2csv keeps `.ulog`).
 /// Several files are written at the same time (`-j`); the `Writing` lines all come
 /// first, in name order.
 #[derive(Debug, clap::Args)]
+#[command(
+    about = "One CSV file per topic instance, as pyulog's ulog2csv writes them",
+    long_about
+)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,
@@ -143,14 +148,10 @@ impl Job<'_, '_> {
     }
 }
 
-/// The path prefix of the output files: FILE without `.ulg` (any case), in DIR when
-/// given (DIR is created when missing).
+/// The path prefix of the output files: FILE without `.ulg` or `.ulog` (any case), in
+/// DIR when given (DIR is created when missing).
 fn output_prefix(name: &str, dir: Option<&Path>) -> Result<String, Failure> {
-    let stem = if name.to_lowercase().ends_with(".ulg") && name.is_char_boundary(name.len() - 4) {
-        &name[..name.len() - 4]
-    } else {
-        name
-    };
+    let stem = input::strip_log_extension(name).unwrap_or(name);
     let Some(dir) = dir else {
         return Ok(stem.to_owned());
     };
@@ -201,36 +202,99 @@ struct Column {
 }
 
 fn columns(topic: &Topic<'_, '_>) -> Result<Vec<Column>, LookupError> {
-    let mut cols: Vec<Column> = topic
-        .fields()?
-        .into_iter()
-        .map(|f| {
-            let off = f.offset();
-            let cell = match (f.shape(), f.ty()) {
-                (FieldShape::String(n), _) => Cell::Text(off, n),
-                (_, BasicType::Float) => Cell::F32(off),
-                (_, BasicType::Double) => Cell::F64(off),
-                (_, BasicType::Bool | BasicType::Char | BasicType::Int8) => Cell::I8(off),
-                (_, BasicType::Int16) => Cell::I16(off),
-                (_, BasicType::Int32) => Cell::I32(off),
-                (_, BasicType::Int64) => Cell::I64(off),
-                (_, BasicType::UInt8) => Cell::U8(off),
-                (_, BasicType::UInt16) => Cell::U16(off),
-                (_, BasicType::UInt32) => Cell::U32(off),
-                (_, BasicType::UInt64) => Cell::U64(off),
-            };
-            Column {
-                name: f.path().to_owned(),
-                cell,
+    let mut values = Vec::new();
+    pyulog_fields(topic.layout()?.fields(), "", 0, &mut values);
+    // ulog2csv's columns: `_padding` fields left out (only the topic's own can be
+    // named so: nested ones are `a._padding0[0]`, and stay), a `char` array as one
+    // text column named without the index, at the place of its first element.
+    let mut cols: Vec<Column> = Vec::with_capacity(values.len());
+    let mut strings: Vec<(String, usize)> = Vec::new();
+    for (name, ty, off) in values {
+        if name.starts_with("_padding") {
+            continue;
+        }
+        if ty == BasicType::Char {
+            if let Some((field, index)) = array_element(&name) {
+                match strings.iter().position(|(f, _)| f == field) {
+                    Some(i) => {
+                        let col = strings[i].1;
+                        if let Cell::Text(start, n) = &mut cols[col].cell {
+                            *n = (*n).max(off + 1 - *start);
+                        }
+                    }
+                    None => {
+                        strings.push((field.to_owned(), cols.len()));
+                        cols.push(Column {
+                            name: field.to_owned(),
+                            cell: Cell::Text(off, index + 1),
+                        });
+                    }
+                }
+                continue;
             }
-        })
-        .collect();
+        }
+        let cell = match ty {
+            BasicType::Float => Cell::F32(off),
+            BasicType::Double => Cell::F64(off),
+            BasicType::Bool | BasicType::Char | BasicType::Int8 => Cell::I8(off),
+            BasicType::Int16 => Cell::I16(off),
+            BasicType::Int32 => Cell::I32(off),
+            BasicType::Int64 => Cell::I64(off),
+            BasicType::UInt8 => Cell::U8(off),
+            BasicType::UInt16 => Cell::U16(off),
+            BasicType::UInt32 => Cell::U32(off),
+            BasicType::UInt64 => Cell::U64(off),
+        };
+        cols.push(Column { name, cell });
+    }
     // ulog2csv moves `timestamp` to the front, whatever its place in the format.
     if let Some(i) = cols.iter().position(|c| c.name == "timestamp") {
         let ts = cols.remove(i);
         cols.insert(0, ts);
     }
     Ok(cols)
+}
+
+/// pyulog's flattened fields of a format (its `field_data`): every value with its path,
+/// type and offset, array elements one by one (`a[2]`, `a[2].b`), nested types'
+/// padding included (`esc[0]._padding0[3]`). The topic's own padding is not listed:
+/// ulog2csv leaves it out.
+fn pyulog_fields(
+    fields: &[LayoutField],
+    prefix: &str,
+    base: usize,
+    out: &mut Vec<(String, BasicType, usize)>,
+) {
+    for f in fields {
+        if prefix.is_empty() && f.is_padding() {
+            continue;
+        }
+        let path = format!("{prefix}{}", f.name);
+        let off = base + f.offset;
+        match (&f.ty, f.array_len) {
+            (LayoutType::Basic(b), Some(n)) => {
+                out.extend((0..n).map(|i| (format!("{path}[{i}]"), *b, off + i * b.size())));
+            }
+            (LayoutType::Basic(b), None) => out.push((path, *b, off)),
+            (LayoutType::Nested(inner), Some(n)) => {
+                for i in 0..n {
+                    let p = format!("{path}[{i}].");
+                    pyulog_fields(inner.fields(), &p, off + i * inner.size(), out);
+                }
+            }
+            (LayoutType::Nested(inner), None) => {
+                pyulog_fields(inner.fields(), &format!("{path}."), off, out);
+            }
+        }
+    }
+}
+
+/// `(a[1].s, 3)` for `a[1].s[3]`: the name and index of an array element, as
+/// ulog2csv's `(.*)\[(.*?)\]` reads them.
+fn array_element(name: &str) -> Option<(&str, usize)> {
+    let body = name.strip_suffix(']')?;
+    let open = body.rfind('[')?;
+    Some((&body[..open], body[open + 1..].parse().ok()?))
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -504,8 +568,9 @@ mod tests {
     }
 
     #[test]
-    fn prefix_strips_ulg_only() {
+    fn prefix_strips_the_log_extension() {
         assert_eq!(output_prefix("a/b.ULG", None).unwrap(), "a/b");
-        assert_eq!(output_prefix("a/b.ulog", None).unwrap(), "a/b.ulog");
+        assert_eq!(output_prefix("a/b.ulog", None).unwrap(), "a/b");
+        assert_eq!(output_prefix("a/b.txt", None).unwrap(), "a/b.txt");
     }
 }

@@ -37,7 +37,11 @@ Findings of the reader appear where they start, as objects with
 /// logged strings, syncs, dropouts and unknown types, with what the reader found
 /// (damage, skipped bytes) where it starts.
 #[derive(Debug, clap::Args)]
-#[command(after_help = JSON_KEYS)]
+#[command(
+    about = "Every message in file order, with its byte offset",
+    long_about,
+    after_help = JSON_KEYS
+)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,
@@ -135,8 +139,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 fn write_finding(out: &mut impl Write, f: &Finding, json: bool) -> io::Result<()> {
     if json {
-        let j =
-            json!({"offset": f.offset, "finding": kind_name(f), "len": f.len, "text": f.what()});
+        let j = json!({"offset": f.offset, "finding": kind_name(f), "len": f.len, "count": f.count, "text": f.what()});
         writeln!(out, "{j}")
     } else {
         writeln!(out, "{:>10}  !  {}", f.offset, f.what())

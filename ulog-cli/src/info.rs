@@ -57,7 +57,11 @@ JSON keys (--json; stable, new keys may be added):
 ///
 /// Without FILE, shows the small sample log bundled with the tool.
 #[derive(Debug, clap::Args)]
-#[command(after_help = JSON_KEYS)]
+#[command(
+    about = "What a log holds, as pyulog's ulog_info shows it, and its damage",
+    long_about,
+    after_help = JSON_KEYS
+)]
 pub struct Args {
     /// The ULog file (default: the bundled sample log).
     file: Option<PathBuf>,
@@ -341,7 +345,7 @@ fn to_json(name: &str, log: &ULog<'_>) -> Json {
     let findings: Vec<Json> = log
         .findings()
         .iter()
-        .map(|f| json!({"kind": kind_name(f), "offset": f.offset, "len": f.len, "text": f.to_string()}))
+        .map(|f| json!({"kind": kind_name(f), "offset": f.offset, "len": f.len, "count": f.count, "text": f.to_string()}))
         .collect();
     let unknown: Vec<Json> = log
         .unknown_messages()

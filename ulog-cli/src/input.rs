@@ -51,8 +51,46 @@ pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&
     Ok(wanted)
 }
 
+/// The extensions of log files (any case): `.ulg`, and `.ulog` that some tools write.
+pub const LOG_EXTENSIONS: [&str; 2] = ["ulg", "ulog"];
+
+/// Whether `path` is named as a log file (`.ulg` or `.ulog`, any case).
+pub fn is_log_name(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| LOG_EXTENSIONS.iter().any(|x| e.eq_ignore_ascii_case(x)))
+}
+
+/// `name` without its `.ulg` or `.ulog` extension (any case), or `None` when it has
+/// neither.
+pub fn strip_log_extension(name: &str) -> Option<&str> {
+    LOG_EXTENSIONS.iter().find_map(|ext| {
+        let cut = name.len().checked_sub(ext.len() + 1)?;
+        let (stem, tail) = (name.get(..cut)?, name.get(cut..)?);
+        (tail.starts_with('.') && tail[1..].eq_ignore_ascii_case(ext)).then_some(stem)
+    })
+}
+
 /// The threads a `-j/--jobs` option asks for: its value, else the number of CPUs.
 pub fn threads(jobs: Option<std::num::NonZeroUsize>) -> usize {
     jobs.or_else(|| std::thread::available_parallelism().ok())
         .map_or(1, std::num::NonZeroUsize::get)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_extensions_are_ulg_and_ulog_in_any_case() {
+        assert_eq!(strip_log_extension("a/b.ulg"), Some("a/b"));
+        assert_eq!(strip_log_extension("a/b.ULog"), Some("a/b"));
+        assert_eq!(strip_log_extension("b.ulog.ulg"), Some("b.ulog"));
+        assert_eq!(strip_log_extension("a/bulog"), None);
+        assert_eq!(strip_log_extension("a/b.txt"), None);
+        assert_eq!(strip_log_extension(".ulg"), Some(""));
+        assert_eq!(strip_log_extension("é.ulg"), Some("é"));
+        assert!(is_log_name(Path::new("x/y.ULOG")));
+        assert!(is_log_name(Path::new("y.ulg")));
+        assert!(!is_log_name(Path::new("y.ulg.txt")));
+    }
 }

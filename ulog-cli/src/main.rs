@@ -24,12 +24,11 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// Read PX4 ULog flight logs: summary, damage check, message dump, logged messages,
-/// parameters, CSV and Parquet export, Rust bindings, plots.
+/// PX4 ULog flight logs: summary, check, dump, CSV and Parquet export, plots.
 #[derive(Debug, Parser)]
-#[command(name = "ulog", version, about, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
+#[command(name = "ulog", version, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
-    /// No progress bars (they are only drawn when stderr is a terminal).
+    /// No progress bars (drawn only when stderr is a terminal).
     #[arg(short, long, global = true)]
     quiet: bool,
     #[command(subcommand)]

@@ -18,6 +18,10 @@ use crate::input;
 /// event; and tagged messages are printed too (ulog_messages leaves them out; use
 /// `--no-tagged` for its output). Levels outside '0'..'7' print as UNKNOWN.
 #[derive(Debug, clap::Args)]
+#[command(
+    about = "The logged strings, as pyulog's ulog_messages prints them",
+    long_about
+)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,

@@ -19,6 +19,10 @@ use crate::pyfmt::py_str;
 /// (9 float, 6 integer). Values print as Python prints them: `float` parameters as the
 /// double they widen to (`0.10000000149011612`).
 #[derive(Debug, clap::Args)]
+#[command(
+    about = "The parameters, as pyulog's ulog_params prints them",
+    long_about
+)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,

@@ -30,9 +30,13 @@ use crate::progress::Progress;
 /// read or converted is reported (one line) and the others go on; the exit status is
 /// then that of the first failure, in the order given.
 #[derive(Debug, clap::Args)]
+#[command(
+    about = "Logs to Parquet files (one per topic instance) for query engines",
+    long_about
+)]
 pub struct Args {
-    /// ULog files, or directories: every `.ulg` file directly in a directory is
-    /// converted (not those in its subdirectories).
+    /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) directly
+    /// in a directory is converted (not those in its subdirectories).
     #[arg(required = true, value_name = "FILE_OR_DIR")]
     inputs: Vec<PathBuf>,
     /// Output directory: each log goes to `DIR/<log stem>/` (created if missing;
@@ -40,7 +44,8 @@ pub struct Args {
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     output: Option<PathBuf>,
     /// pyulog's columns instead of struct and list columns: one per value, named by
-    /// path (`q[0]`, `esc[3].esc_rpm`), `timestamp` first, as `ulog csv` names them.
+    /// path (`q[0]`, `esc[3].esc_rpm`), `timestamp` first, as `ulog csv` names them
+    /// (without the nested padding columns that `ulog csv` keeps).
     #[arg(long)]
     flatten: bool,
     /// Only these topics (comma-separated names, e.g. `vehicle_local_position,sensor_combined`).
@@ -189,19 +194,19 @@ fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
         for entry in entries {
             let entry = entry.map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
             let path = entry.path();
-            let is_ulg = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("ulg"));
+            if !input::is_log_name(&path) {
+                continue;
+            }
             let meta = std::fs::metadata(&path)
                 .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
-            if is_ulg && meta.is_file() {
+            if meta.is_file() {
                 logs.push((path, meta.len()));
             }
         }
         if logs.is_empty() {
             return Err(Failure::unreadable(
                 &shown,
-                "no .ulg files in this directory",
+                "no .ulg or .ulog files in this directory",
             ));
         }
         logs.sort();
@@ -227,16 +232,15 @@ fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
 }
 
 /// `DIR/<stem>` or, without `-o`, `<stem>` beside the log; the stem is the file name
-/// without `.ulg` (any case), or with `_parquet` added when it has no such extension.
+/// without `.ulg` or `.ulog` (any case), or with `_parquet` added when it has no such
+/// extension.
 fn output_dir(input: &Path, dir: Option<&Path>) -> PathBuf {
     let name = input
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let stem = match name.len().checked_sub(4) {
-        Some(cut) if name.is_char_boundary(cut) && name[cut..].eq_ignore_ascii_case(".ulg") => {
-            name[..cut].to_owned()
-        }
+    let stem = match input::strip_log_extension(&name) {
+        Some(stem) if !stem.is_empty() => stem.to_owned(),
         _ => format!("{name}_parquet"),
     };
     match dir {
@@ -336,6 +340,10 @@ mod tests {
     #[test]
     fn output_folder_is_the_stem() {
         assert_eq!(output_dir(Path::new("a/b.ULG"), None), PathBuf::from("a/b"));
+        assert_eq!(
+            output_dir(Path::new("a/b.ulog"), None),
+            PathBuf::from("a/b")
+        );
         assert_eq!(
             output_dir(Path::new("a/b.ulg"), Some(Path::new("out"))),
             PathBuf::from("out/b")

@@ -47,6 +47,7 @@ use spec::FieldSpec;
 /// and highest of each column), so spikes stay visible and files stay small. NaN and
 /// infinite values are left out.
 #[derive(Debug, clap::Args)]
+#[command(about = "Plot fields over time as SVG or PNG", long_about)]
 pub struct Args {
     /// The ULog file.
     file: PathBuf,
@@ -68,12 +69,20 @@ pub struct Args {
     /// The caption (default: the file name).
     #[arg(long, value_name = "TEXT")]
     title: Option<String>,
-    /// Start the time axis at this many seconds since log start (default: the first point).
-    #[arg(long = "time-start", value_name = "S")]
-    time_start: Option<f64>,
-    /// End the time axis at this many seconds since log start (default: the last point).
-    #[arg(long = "time-end", value_name = "S")]
-    time_end: Option<f64>,
+    /// Start the time axis at this time since the log's start: seconds (`90`,
+    /// `90.5`), `M:SS` or `H:MM:SS` (`1:30`, `1:30.5`) (default: the first point).
+    #[arg(long, value_name = "TIME", value_parser = parse_time)]
+    start: Option<f64>,
+    /// End the time axis at this time since the log's start, written as for `--start`
+    /// (default: the last point).
+    #[arg(long, value_name = "TIME", value_parser = parse_time)]
+    end: Option<f64>,
+    /// Not plot's: `csv`'s boot-time range. Refused with a pointer to `--start`.
+    #[arg(long = "time-start", hide = true, value_name = "S", value_parser = not_plots)]
+    _time_start: Option<String>,
+    /// Not plot's: `csv`'s boot-time range. Refused with a pointer to `--end`.
+    #[arg(long = "time-end", hide = true, value_name = "S", value_parser = not_plots)]
+    _time_end: Option<String>,
     /// Do not mark parameter changes.
     #[arg(long = "no-params")]
     no_params: bool,
@@ -83,6 +92,58 @@ pub struct Args {
     /// One panel per line, one above the other, sharing the time axis.
     #[arg(long)]
     separate: bool,
+}
+
+/// Seconds from `90`, `90.5`, `1:30`, `1:30.5` or `1:02:03.5` (minutes and seconds
+/// after a `:` below 60).
+fn parse_time(s: &str) -> Result<f64, String> {
+    let bad = || {
+        "expected the time since the log's start as seconds (`90`, `90.5`), M:SS \
+         (`1:30`, `1:30.5`) or H:MM:SS (`1:02:03`)"
+            .to_owned()
+    };
+    let digits = |p: &str| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit());
+    let parts: Vec<&str> = s.split(':').collect();
+    let Some((last, units)) = parts.split_last() else {
+        return Err(bad());
+    };
+    if units.len() > 2 {
+        return Err(bad());
+    }
+    let seconds_ok = match last.split_once('.') {
+        Some((whole, frac)) => digits(whole) && digits(frac),
+        None => digits(last),
+    };
+    if !seconds_ok {
+        return Err(bad());
+    }
+    let seconds: f64 = last.parse().map_err(|_| bad())?;
+    if !units.is_empty() && seconds >= 60.0 {
+        return Err(bad());
+    }
+    let mut total = 0.0f64;
+    for (i, p) in units.iter().enumerate() {
+        let v: f64 = p.parse().ok().filter(|_| digits(p)).ok_or_else(bad)?;
+        if i > 0 && v >= 60.0 {
+            return Err(bad());
+        }
+        total = total * 60.0 + v;
+    }
+    let t = total * 60.0 + seconds;
+    if t.is_finite() {
+        Ok(t)
+    } else {
+        Err(bad())
+    }
+}
+
+/// `--time-start`/`--time-end` given to `plot`: always an error that names plot's flags.
+fn not_plots(_: &str) -> Result<String, String> {
+    Err(
+        "plot's time range is `--start`/`--end` (time since the log's start); \
+         `--time-start`/`--time-end` are csv's (boot-time seconds)"
+            .into(),
+    )
 }
 
 fn parse_spec(s: &str) -> Result<FieldSpec, String> {
@@ -135,8 +196,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     for spec in &args.fields {
         all.extend(series::read(&log, &name, spec, start_us)?);
     }
-    let (x0, x1) =
-        time_axis(&all, args.time_start, args.time_end).map_err(|e| Failure::about(&name, e))?;
+    let (x0, x1) = time_axis(&all, args.start, args.end).map_err(|e| Failure::about(&name, e))?;
     let (width, height) = args.size;
     // About the plot's width in pixels (the picture less the axis labels and margins).
     let columns = (width as usize).saturating_sub(110).max(1);
@@ -193,7 +253,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     .map_err(stdout_err)
 }
 
-/// `<FILE without .ulg>_plot.svg`, next to FILE.
+/// `<FILE without its extension (`.ulg`, `.ulog`)>_plot.svg`, next to FILE.
 fn default_output(file: &Path) -> PathBuf {
     let stem = file
         .file_stem()
@@ -277,6 +337,26 @@ mod tests {
             default_output(Path::new("logs/flight.ulg")),
             Path::new("logs/flight_plot.svg")
         );
+        assert_eq!(
+            default_output(Path::new("logs/flight.ulog")),
+            Path::new("logs/flight_plot.svg")
+        );
+    }
+
+    #[test]
+    fn times_are_seconds_or_minutes_and_seconds() {
+        assert_eq!(parse_time("90"), Ok(90.0));
+        assert_eq!(parse_time("90.25"), Ok(90.25));
+        assert_eq!(parse_time("1:30"), Ok(90.0));
+        assert_eq!(parse_time("1:30.5"), Ok(90.5));
+        assert_eq!(parse_time("01:02:03"), Ok(3723.0));
+        assert_eq!(parse_time("90:00"), Ok(5400.0));
+        for bad in [
+            "", "1:60", "1:75", "1:60:00", "a", "1:", ":30", "-5", "1e3", "1.", ".5", "1:2:3:4",
+            "inf",
+        ] {
+            assert!(parse_time(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

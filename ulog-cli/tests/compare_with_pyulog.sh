@@ -14,8 +14,6 @@
 #   `File version:` on); it is cut before diffing.
 # - pyulog prints parse warnings on stdout (`Warning: no subscription found ...`);
 #   they are dropped from its output.
-# - `ulog csv` leaves nested padding columns out (`esc[0]._padding0[3]`); they are
-#   dropped from pyulog's files before diffing.
 # - In logs with corruption mid-stream, this reader recovers data messages that pyulog
 #   skips while it looks for the next sync message: those files may have extra rows
 #   (and `ulog info` higher counts). They are checked to hold every pyulog row, in
@@ -82,8 +80,8 @@ for t, level, text in msgs:
 EOF
 }
 
-# Compares two CSV folders: pyulog's nested padding columns dropped; with `rows`,
-# extra rows on our side are allowed if every pyulog row is there, in order.
+# Compares two CSV folders; with `rows`, extra rows on our side are allowed if every
+# pyulog row is there, in order.
 compare_csv() {
     python3 - "$1" "$2" "$3" <<'EOF'
 import os, sys
@@ -95,10 +93,6 @@ for f in sorted(a_files ^ b_files):
 for f in sorted(a_files & b_files):
     a = open(os.path.join(ours, f), encoding='utf-8').read().split('\n')
     b = open(os.path.join(theirs, f), encoding='utf-8').read().split('\n')
-    head = b[0].split(',')
-    keep = [i for i, h in enumerate(head) if '._padding' not in h]
-    if len(keep) != len(head):
-        b = [','.join(r.split(',')[i] for i in keep) if r else r for r in b]
     if a == b:
         continue
     if mode == 'rows':

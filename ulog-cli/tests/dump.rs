@@ -16,9 +16,7 @@ fn json_lines(text: &str) -> Vec<Json> {
 
 #[test]
 fn every_message_of_every_corpus_log() {
-    let Some(dir) = common::corpus("every_message_of_every_corpus_log") else {
-        return;
-    };
+    let dir = common::corpus();
     for (stem, path) in common::corpus_logs(&dir) {
         let bytes = std::fs::read(&path).unwrap();
         let log = ULog::parse(&bytes).unwrap();
@@ -99,10 +97,12 @@ fn every_message_of_every_corpus_log() {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus: ../shared/corpus beside the workspace, or $ULOG_CORPUS"
+)]
 fn text_has_one_line_per_message_and_finding() {
-    let Some(dir) = common::corpus("text_has_one_line_per_message_and_finding") else {
-        return;
-    };
+    let dir = common::corpus();
     let path = dir.join("files/corrupt_unregistered_msg_id.ulg");
     let text = common::ulog_ok(["dump".as_ref(), path.as_os_str()]);
     let json = common::ulog_ok(["dump".as_ref(), "--json".as_ref(), path.as_os_str()]);

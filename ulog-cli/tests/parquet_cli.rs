@@ -87,7 +87,7 @@ fn failures_are_one_line_with_distinct_statuses() {
     std::fs::create_dir_all(&empty).unwrap();
     let out = common::ulog(["parquet".as_ref(), empty.as_os_str()]);
     assert_eq!(out.status.code(), Some(3));
-    assert!(stderr_line(&out).contains("no .ulg files"));
+    assert!(stderr_line(&out).contains("no .ulg or .ulog files"));
 
     let out = common::ulog(["parquet"]);
     assert_eq!(out.status.code(), Some(2), "usage error");

@@ -99,10 +99,12 @@ fn s(p: &Path) -> &str {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus: ../shared/corpus beside the workspace, or $ULOG_CORPUS"
+)]
 fn svg_of_a_real_log_shows_each_series_and_the_markers() {
-    let Some(corpus) = common::corpus("svg_of_a_real_log_shows_each_series_and_the_markers") else {
-        return;
-    };
+    let corpus = common::corpus();
     let log = corpus.join("files/sample.ulg");
     let summary = common::summary(&corpus, "sample");
     let svg_path = common::scratch("plot_svg").join("pos.svg");
@@ -191,10 +193,12 @@ fn svg_of_a_real_log_shows_each_series_and_the_markers() {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus: ../shared/corpus beside the workspace, or $ULOG_CORPUS"
+)]
 fn long_series_are_thinned_per_pixel_column() {
-    let Some(corpus) = common::corpus("long_series_are_thinned_per_pixel_column") else {
-        return;
-    };
+    let corpus = common::corpus();
     let log = corpus.join("files/sample.ulg");
     let rows = common::summary(&corpus, "sample")["topics"]
         .as_array()
@@ -228,10 +232,12 @@ fn long_series_are_thinned_per_pixel_column() {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus: ../shared/corpus beside the workspace, or $ULOG_CORPUS"
+)]
 fn png_has_the_asked_size() {
-    let Some(corpus) = common::corpus("png_has_the_asked_size") else {
-        return;
-    };
+    let corpus = common::corpus();
     let log = corpus.join("files/log_61_2024-2-6-16-27-02.ulg");
     let out = common::scratch("plot_png").join("flight.png");
     assert_ok(&plot(&[
@@ -326,7 +332,11 @@ fn unknown_topic_names_the_closest() {
         ],
     );
     let out = plot(&["plot", s(&file), "battery_status:4.voltage_v"]);
-    assert_fails(&out, 5, &["battery_status", "no instance 4", "0, 1"]);
+    assert_fails(
+        &out,
+        5,
+        &["topic `battery_status` has no instance 4 (its instances: 0, 1)"],
+    );
     assert!(!file.with_file_name("sample_plot.svg").exists());
 }
 
@@ -380,9 +390,9 @@ fn bad_options_are_usage_errors_or_say_why() {
         "plot",
         s(&file),
         "vehicle_local_position.z",
-        "--time-start",
+        "--start",
         "8",
-        "--time-end",
+        "--end",
         "2",
     ]);
     assert_fails(&out, 6, &["empty time range"]);
@@ -400,13 +410,62 @@ fn help_names_every_option() {
         "--output",
         "--size",
         "--title",
-        "--time-start",
-        "--time-end",
+        "--start",
+        "--end",
         "--no-params",
         "--no-messages",
         "--separate",
         "--quiet",
     ] {
         assert!(help.contains(opt), "`{opt}` in plot --help:\n{help}");
+    }
+}
+
+/// `--start`/`--end` are seconds since the log's start, as `90`, `1:30` or `1:30.5`;
+/// `--time-start`/`--time-end` (boot-time seconds in `csv`) are not plot's.
+#[test]
+fn time_range_is_start_and_end_since_log_start() {
+    let file = common::sample_file("plot_start_end");
+    let field = "vehicle_local_position.z";
+    // An empty range says how the values were read.
+    let out = plot(&["plot", s(&file), field, "--start", "1:30", "--end", "1:00"]);
+    assert_fails(&out, 6, &["empty time range: 90 s to 60 s since log start"]);
+    let out = plot(&["plot", s(&file), field, "--start", "1:30.5", "--end", "90"]);
+    assert_fails(
+        &out,
+        6,
+        &["empty time range: 90.5 s to 90 s since log start"],
+    );
+
+    let svg = file.with_file_name("range.svg");
+    let drawn = |range: &[&str]| {
+        let mut args = vec!["plot", s(&file), field, "-o", s(&svg)];
+        args.extend_from_slice(range);
+        let stdout = assert_ok(&plot(&args));
+        let points = stdout.split(" line(s), ").nth(1).expect("points drawn");
+        points.split(' ').next().unwrap().parse::<usize>().unwrap()
+    };
+    let all = drawn(&[]);
+    let part = drawn(&["--start", "2", "--end", "4.5"]);
+    assert!(0 < part && part < all, "{part} of {all} points");
+    assert_eq!(drawn(&["--start", "0:02", "--end", "0:04.5"]), part);
+    assert_eq!(drawn(&["--start=0:0:02", "--end=4.50"]), part);
+
+    for bad in [
+        vec!["--time-start", "2"],
+        vec!["--time-end", "4"],
+        vec!["--start", "1:75"],
+        vec!["--end", "abc"],
+        vec!["--start", "1:2:3:4"],
+    ] {
+        let mut args = vec!["plot", s(&file), field];
+        args.extend(bad.iter().copied());
+        let out = plot(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: usage error: {err}");
+        assert!(
+            err.contains("--start") || err.contains("--end"),
+            "{bad:?}: {err}"
+        );
     }
 }

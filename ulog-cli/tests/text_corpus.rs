@@ -21,9 +21,7 @@ fn same_value(text: &str, expected: &Json) -> bool {
 
 #[test]
 fn params_equal_pyulog_summary() {
-    let Some(corpus) = common::corpus("params_equal_pyulog_summary") else {
-        return;
-    };
+    let corpus = common::corpus();
     for (stem, path) in common::corpus_logs(&corpus) {
         let s = common::summary(&corpus, &stem);
         let initial = s["initial_parameters"].as_object().unwrap();
@@ -74,9 +72,7 @@ fn params_equal_pyulog_summary() {
 
 #[test]
 fn messages_equal_pyulog_summary() {
-    let Some(corpus) = common::corpus("messages_equal_pyulog_summary") else {
-        return;
-    };
+    let corpus = common::corpus();
     for (stem, path) in common::corpus_logs(&corpus) {
         let s = common::summary(&corpus, &stem);
         let msg = |m: &Json| {
@@ -120,9 +116,7 @@ fn messages_equal_pyulog_summary() {
 
 #[test]
 fn info_equals_pyulog_summary() {
-    let Some(corpus) = common::corpus("info_equals_pyulog_summary") else {
-        return;
-    };
+    let corpus = common::corpus();
     for (stem, path) in common::corpus_logs(&corpus) {
         let s = common::summary(&corpus, &stem);
         let text = common::ulog_ok(["info".as_ref(), path.as_os_str()]);

@@ -39,7 +39,10 @@ pub enum FindingKind {
     /// A data message for a msg_id with no subscription; skipped.
     UnknownMsgId(u16),
     /// A data message whose size fits neither its format's full size nor the size
-    /// without trailing padding; skipped, not decoded from garbage.
+    /// without trailing padding. Shorter: skipped, not decoded from garbage. Longer,
+    /// and framed by its own size (the messages after it frame cleanly): kept, and
+    /// read as its format's first bytes, where the format puts the fields (pyulog 1.3
+    /// drops such messages).
     SizeMismatch {
         /// The subscription's msg_id.
         msg_id: u16,
@@ -85,20 +88,57 @@ pub enum Corruption {
 }
 
 /// Something the reader stepped over: what, where, and how many bytes it covers.
+///
+/// Repeats are one finding: damaged stretches that follow each other are one stretch,
+/// and the same message-level finding met again with no other finding between (the
+/// same size mismatch of the same msg_id, say, every message of a topic) is one
+/// finding with a [`count`](Finding::count), so that a log damaged the same way a
+/// million times gives one line, not a million.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Finding {
     /// What.
     pub kind: FindingKind,
-    /// Byte offset in the file where it starts.
+    /// Byte offset in the file where it starts (of its first occurrence).
     pub offset: u64,
     /// Number of bytes it covers (skipped or dropped bytes; the message's size for a
-    /// skipped message; 0 where no bytes were lost).
+    /// skipped message; 0 where no bytes were lost). With a `count` above 1: from the
+    /// first occurrence to the end of the last, good messages between included.
     pub len: u64,
+    /// How many times it occurred in `offset..offset + len` (1 for most).
+    pub count: u64,
 }
 
 impl Finding {
     pub(crate) fn new(kind: FindingKind, offset: u64, len: u64) -> Finding {
-        Finding { kind, offset, len }
+        Finding {
+            kind,
+            offset,
+            len,
+            count: 1,
+        }
+    }
+
+    /// Takes in the same finding met again at `offset` (`len` bytes), if it repeats
+    /// this one (see [`Finding`]); `false` if it is another.
+    pub(crate) fn absorb(&mut self, kind: &FindingKind, offset: u64, len: u64) -> bool {
+        let end = self.offset + self.len;
+        let repeats = self.kind == *kind
+            && match kind {
+                // Stretches that touch are one stretch.
+                FindingKind::Corrupt(_) => offset == end,
+                FindingKind::SizeMismatch { .. }
+                | FindingKind::UnknownMsgId(_)
+                | FindingKind::UnknownMessageType(_)
+                | FindingKind::Malformed { .. } => offset >= end,
+                _ => false,
+            };
+        if repeats {
+            if !matches!(kind, FindingKind::Corrupt(_)) {
+                self.count += 1;
+            }
+            self.len = offset + len - self.offset;
+        }
+        repeats
     }
 
     /// Whether bytes of the file were lost or could not be read as intended
@@ -138,7 +178,12 @@ impl Finding {
         struct What<'a>(&'a Finding);
         impl fmt::Display for What<'_> {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                self.0.describe(f)
+                self.0.describe(f)?;
+                let w = self.0;
+                if w.count > 1 {
+                    write!(f, " ({} times, up to byte {})", w.count, w.offset + w.len)?;
+                }
+                Ok(())
             }
         }
         What(self).to_string()
@@ -153,18 +198,28 @@ impl Finding {
                 write!(f, "flag bits message of {n} bytes; bytes after 40 ignored")
             }
             FindingKind::UnknownCompatFlags { byte, bits } => {
-                write!(f, "unknown compatible flag bits {bits:#04x} in compat_flags[{byte}]")
+                write!(
+                    f,
+                    "unknown compatible flag bits {bits:#04x} in compat_flags[{byte}]"
+                )
             }
             FindingKind::InvalidAppendedOffset(o) => write!(f, "invalid appended offset {o}"),
             FindingKind::AppendedFlagWithoutOffsets => {
                 write!(f, "DATA_APPENDED flag set but no appended offset")
             }
             FindingKind::AppendedOffsetsWithoutFlag => {
-                write!(f, "appended offsets set without the DATA_APPENDED flag; ignored")
+                write!(
+                    f,
+                    "appended offsets set without the DATA_APPENDED flag; ignored"
+                )
             }
             FindingKind::AppendedData => write!(f, "appended data starts"),
             FindingKind::PartialBeforeAppended => {
-                write!(f, "partial message before appended data dropped (bytes {}..{end})", self.offset)
+                write!(
+                    f,
+                    "partial message before appended data dropped (bytes {}..{end})",
+                    self.offset
+                )
             }
             FindingKind::Truncated => write!(
                 f,
@@ -178,30 +233,60 @@ impl Finding {
                     Corruption::ZeroFill => "zero-filled bytes",
                     Corruption::Overrun => "message overruns the file",
                 };
-                write!(f, "corruption ({why}): skipped bytes {}..{end} ({} bytes)", self.offset, self.len)
+                write!(
+                    f,
+                    "corruption ({why}): skipped bytes {}..{end} ({} bytes)",
+                    self.offset, self.len
+                )
             }
             FindingKind::UnknownMessageType(t) => {
-                write!(f, "unknown message type {} ({} bytes) skipped", type_char(*t), self.len)
+                write!(
+                    f,
+                    "unknown message type {} ({} bytes) skipped",
+                    type_char(*t),
+                    self.len
+                )
             }
             FindingKind::UnknownMsgId(id) => {
-                write!(f, "data message for msg_id {id}, which has no subscription; skipped")
+                write!(
+                    f,
+                    "data message for msg_id {id}, which has no subscription; skipped"
+                )
             }
             FindingKind::SizeMismatch {
                 msg_id,
                 expected,
                 found,
-            } => write!(
-                f,
-                "data message for msg_id {msg_id} has {found} bytes, its format needs {} or {}; skipped",
-                expected.0, expected.1
-            ),
+            } => {
+                write!(
+                    f,
+                    "data message for msg_id {msg_id} has {found} bytes, its format "
+                )?;
+                if expected.0 == expected.1 {
+                    write!(f, "needs {}", expected.0)?;
+                } else {
+                    write!(f, "needs {} or {}", expected.0, expected.1)?;
+                }
+                if *found > expected.0 {
+                    f.write_str("; kept, read as its format's first bytes")
+                } else {
+                    f.write_str("; skipped")
+                }
+            }
             FindingKind::Malformed { msg_type, what } => {
-                write!(f, "malformed {} message: {what}; skipped", type_char(*msg_type))
+                write!(
+                    f,
+                    "malformed {} message: {what}; skipped",
+                    type_char(*msg_type)
+                )
             }
             FindingKind::InvalidFormat(e) => write!(f, "invalid format definition: {e}"),
             FindingKind::Layout(e) => write!(f, "{e}"),
             FindingKind::RedefinedFormat(n) => {
-                write!(f, "format `{n}` redefined with other fields; the later one is used")
+                write!(
+                    f,
+                    "format `{n}` redefined with other fields; the later one is used"
+                )
             }
             FindingKind::UnknownFormat(n) => write!(f, "subscription to undefined format `{n}`"),
             FindingKind::InvalidKey => write!(f, "key that does not parse as `type name`"),
@@ -213,6 +298,16 @@ impl Finding {
 impl fmt::Display for Finding {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         self.describe(f)?;
-        write!(f, " at byte {}", self.offset)
+        if self.count > 1 {
+            write!(
+                f,
+                " ({} times, bytes {}..{})",
+                self.count,
+                self.offset,
+                self.offset + self.len
+            )
+        } else {
+            write!(f, " at byte {}", self.offset)
+        }
     }
 }

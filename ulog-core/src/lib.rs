@@ -1,5 +1,16 @@
 //! A spec-complete, typed, zero-copy reader and writer of PX4 ULog flight logs.
 //!
+//! ```
+//! let bytes = ulog_core::testing::sample_log();
+//! let log = ulog_core::ULog::parse(&bytes)?;
+//! assert_eq!(log.info_value("sys_name").unwrap().to_string(), "PX4");
+//! let esc = log.topic("esc_status", 0)?;
+//! let rpm = esc.field("esc[1].esc_rpm")?;
+//! assert_eq!(rpm.read(esc.payload(0).unwrap()), Some(ulog_core::Value::I32(5001)));
+//! assert!(log.findings().is_empty());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # One way per job
 //!
 //! | job | entry point |
@@ -43,17 +54,6 @@
 //! Damage (truncation, corruption, unknown messages, size mismatches) never fails a
 //! read: it becomes [`Finding`]s with byte offsets, and the data around it is kept.
 //! The library never prints.
-//!
-//! ```
-//! let bytes = ulog_core::testing::sample_log();
-//! let log = ulog_core::ULog::parse(&bytes)?;
-//! assert_eq!(log.info_value("sys_name").unwrap().to_string(), "PX4");
-//! let esc = log.topic("esc_status", 0)?;
-//! let rpm = esc.field("esc[1].esc_rpm")?;
-//! assert_eq!(rpm.read(esc.payload(0).unwrap()), Some(ulog_core::Value::I32(5001)));
-//! assert!(log.findings().is_empty());
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
 #![warn(missing_docs)]
 #![deny(unsafe_code)]
 #![cfg_attr(docsrs, feature(doc_auto_cfg))]
@@ -77,6 +77,11 @@ pub mod testing;
 pub mod typed;
 mod value;
 pub mod write;
+
+// The README's example, compiled as a doctest so that it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;
 
 pub use access::field::FieldReader;
 pub use access::load::load_columns;

@@ -5,6 +5,29 @@
 //! `::ulog_core` unless told otherwise with `#[ulog(crate = "…")]` (or `crate = path;`
 //! in the function-like macros).
 //!
+//! ```
+//! # extern crate renamed_ulog as ulog_core; // a dependency on `ulog-core`, feature `derive`
+//! use ulog_core::{ULog, ULogMessage};
+//!
+//! /// The fields of `vehicle_attitude` this program reads: a subset, in any order.
+//! #[derive(ULogMessage, Debug)]
+//! #[ulog(name = "vehicle_attitude")]
+//! struct Attitude {
+//!     timestamp: u64,
+//!     q: [f32; 4],
+//! }
+//!
+//! let bytes = ulog_core::testing::sample_log();
+//! let log = ULog::parse(&bytes)?;
+//! // The binding is checked against the log's format once; then every row decodes.
+//! for row in log.read::<Attitude>(0)?.iter() {
+//!     let a = row?;
+//!     let norm: f32 = a.q.iter().map(|v| v * v).sum();
+//!     assert!((norm - 1.0).abs() < 1e-3, "{a:?}");
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! This crate is a shell: the pipeline (parse → lower → check → expand, every error of
 //! an input at once, with spans) lives in `ulog-codegen`, which the `ulog codegen`
 //! command shares.

@@ -17,15 +17,10 @@ use ulog_core::typed::{BindingVisitor, TypedErrorKind, ViewVisitor, WireImage};
 use ulog_core::{LogFile, Topic, ULog, ULogMessage, Value};
 use ulog_tests::{cell_matches, recovered_stretches};
 
-/// The corpus, as `build.rs` found it (relative to this package, like the
-/// `ulog_module!` paths, so that the bindings and the expected outputs agree).
+/// The corpus `build.rs` generated the bindings from (so that the bindings and the
+/// expected outputs agree).
 pub fn corpus() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus")
-}
-
-/// What the test says when the crate was built without the corpus.
-pub fn skipped(test: &str) {
-    eprintln!("{test}: SKIPPED, no shared corpus at ../shared/corpus when built");
+    ulog_tests::corpus_dir()
 }
 
 /// Checks each topic instance of one log with the bindings generated from it.

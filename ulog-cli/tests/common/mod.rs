@@ -32,23 +32,11 @@ where
     String::from_utf8(out.stdout).expect("utf-8 output")
 }
 
-/// The real-log corpus (`$ULOG_CORPUS`, or `../shared/corpus` beside the workspace),
-/// or `None` after printing a SKIPPED line.
-pub fn corpus(test: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("ULOG_CORPUS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/corpus"))
-        });
-    if dir.join("files").is_dir() && dir.join("expected").is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "SKIPPED {test}: no corpus at {} (set ULOG_CORPUS)",
-            dir.display()
-        );
-        None
-    }
+/// The corpus of real logs the tests check (`files/` and pyulog's `expected/`), as
+/// `build.rs` found it: `$ULOG_CORPUS`, else the full shared corpus beside the
+/// workspace (`../shared/corpus`), else the repository's own logs (`tests/corpus`).
+pub fn corpus() -> PathBuf {
+    PathBuf::from(env!("ULOG_TESTS_CORPUS"))
 }
 
 /// Every `.ulg` file of the corpus with its stem, sorted.

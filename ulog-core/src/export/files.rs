@@ -183,6 +183,27 @@ fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
     Ok(table)
 }
 
+/// Tables with more leaf columns than this are written without dictionary encoding:
+/// each column's dictionary encoder holds about 55 KB whatever the row count, which
+/// for a log with 65,000 leaf columns per topic was 4 GB of the export's 4.6 GB peak
+/// (BENCHMARKS.md). PX4 topics have a few hundred leaves at most, and keep it.
+const DICTIONARY_LEAVES: usize = 1024;
+
+/// The number of leaf columns (Parquet columns) of `fields`.
+fn leaves(fields: &arrow_schema::Fields) -> usize {
+    use arrow_schema::DataType;
+    fn of(t: &DataType) -> usize {
+        match t {
+            DataType::Struct(fields) => leaves(fields),
+            DataType::List(f) | DataType::LargeList(f) | DataType::FixedSizeList(f, _) => {
+                of(f.data_type())
+            }
+            _ => 1,
+        }
+    }
+    fields.iter().map(|f| of(f.data_type())).sum()
+}
+
 fn write_table(
     topic: &Topic<'_, '_>,
     table: &TopicTable,
@@ -204,6 +225,7 @@ fn write_table(
         .set_compression(compression)
         .set_created_by(concat!("ulog-core ", env!("CARGO_PKG_VERSION")).to_owned())
         .set_key_value_metadata(Some(metadata))
+        .set_dictionary_enabled(leaves(table.schema.fields()) <= DICTIONARY_LEAVES)
         .build();
 
     let mut tmp = path.as_os_str().to_owned();

@@ -159,6 +159,8 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
         j.raw(&f.offset.to_string());
         j.key("len");
         j.raw(&f.len.to_string());
+        j.key("count");
+        j.raw(&f.count.to_string());
         j.key("damage");
         j.raw(if f.is_damage() { "true" } else { "false" });
         j.key("text");
@@ -195,11 +197,17 @@ pub fn write_metadata(log: &ULog<'_>, path: &Path) -> Result<(), ExportError> {
 /// its last value.
 fn key_values(j: &mut Json, kvs: &[KeyValue<'_>]) {
     let mut entries: Vec<(String, Value<'_>)> = Vec::with_capacity(kvs.len());
+    // Where each name is in `entries`: a log may hold hundreds of thousands of keys.
+    let mut place: std::collections::HashMap<String, usize> =
+        std::collections::HashMap::with_capacity(kvs.len());
     for kv in kvs {
         let name = kv.name();
-        match entries.iter_mut().find(|(n, _)| *n == name) {
-            Some(e) => e.1 = kv.value(),
-            None => entries.push((name.into_owned(), kv.value())),
+        match place.get(name.as_ref()) {
+            Some(&i) => entries[i].1 = kv.value(),
+            None => {
+                place.insert(name.clone().into_owned(), entries.len());
+                entries.push((name.into_owned(), kv.value()));
+            }
         }
     }
     j.open('{');

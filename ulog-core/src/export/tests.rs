@@ -495,6 +495,33 @@ fn metadata_escapes_text_and_keeps_odd_values() {
     assert_eq!(json["info"]["quote"], "a\"b\\\n");
 }
 
+/// A log with 100,000 information keys, each given twice: every key once, in the place
+/// of its first message, with its last value (reliability issue, item 7: the names
+/// were looked up one by one, so the time grew with the square of their number).
+#[test]
+fn metadata_of_many_keys_keeps_first_places_and_last_values() {
+    let mut b = LogBuilder::new(1, 0);
+    let n = 100_000u32;
+    for round in 0..2u32 {
+        for i in 0..n {
+            b.info(&format!("uint32_t key_{i}"), &(i + round * n).to_le_bytes());
+        }
+    }
+    let log = ULog::parse(b.bytes()).unwrap();
+    let text = metadata_json(&log);
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let info = json["info"].as_object().unwrap();
+    assert_eq!(info.len(), n as usize);
+    assert_eq!(info["key_0"], n);
+    assert_eq!(info["key_99999"], 2 * n - 1);
+    // First places: the text names them in order.
+    let (a, z) = (
+        text.find("\"key_1\"").unwrap(),
+        text.find("\"key_99998\"").unwrap(),
+    );
+    assert!(a < z);
+}
+
 #[test]
 fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
     let bytes = crate::testing::sample_log();

@@ -216,6 +216,11 @@ impl Framer {
     }
 
     fn finding(&mut self, kind: FindingKind, offset: u64, len: u64) {
+        if let Some(last) = self.findings.last_mut() {
+            if last.absorb(&kind, offset, len) {
+                return;
+            }
+        }
         self.findings.push(Finding::new(kind, offset, len));
     }
 

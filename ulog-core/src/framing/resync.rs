@@ -48,20 +48,43 @@ impl Framer {
         let end = p + 3 + size as u64;
         let skippable = !matches!(bad, Bad::Overrun | Bad::ZeroSize);
         if skippable {
-            match self.chain_valid(win, base, end, eof, CHAIN_DEPTH) {
+            // A message of a type this reader does not know has only its size to go
+            // by: chance bytes (a run of sync magic, say) can make one that ends
+            // exactly at the end of the file, so it needs a message after it too.
+            let at_end = if matches!(bad, Bad::UnknownType(_)) {
+                1
+            } else {
+                0
+            };
+            match self.chain_valid(win, base, end, eof, CHAIN_DEPTH, at_end) {
                 None => return Some(Step::NeedMore),
                 Some(true) => {
                     let len = 3 + size as u64;
                     self.finding(self.bad_kind(bad, msg_type), p, len);
                     self.pos = end;
-                    let unknown = matches!(bad, Bad::UnknownType(_));
-                    return unknown.then_some(Step::Record(Record {
+                    let record = Record {
                         offset: p,
                         msg_type,
                         size,
                         sub: None,
-                        unknown: true,
-                    }));
+                        unknown: false,
+                    };
+                    return match bad {
+                        Bad::UnknownType(_) => Some(Step::Record(Record {
+                            unknown: true,
+                            ..record
+                        })),
+                        // A data message longer than its format, framed by its own
+                        // size: its first bytes are the format's, kept as a row (the
+                        // readers read the format's size of it), reported above.
+                        Bad::SizeMismatch(id, (full, _), found) if found > full => {
+                            Some(Step::Record(Record {
+                                sub: self.defs.sub_index(id),
+                                ..record
+                            }))
+                        }
+                        _ => None,
+                    };
                 }
                 Some(false) => {
                     // A data message of a known subscription, framed by its own size and
@@ -192,7 +215,7 @@ impl Framer {
     /// message that happens to end there could be the tail of the cut message itself).
     fn chain_valid_resync(&self, win: &[u8], base: u64, q: u64, eof: bool) -> Option<bool> {
         let depth = CHAIN_DEPTH;
-        match self.chain_len(win, base, q, eof, depth)? {
+        match self.chain_len(win, base, q, eof, depth, false)? {
             (n, _) if n > depth => Some(true),
             (n, true) => Some(n >= 2),
             _ => Some(false),
@@ -201,16 +224,31 @@ impl Framer {
 
     /// Whether the messages from `q` on frame cleanly for `depth` more messages (or
     /// reach the end of the file or an appended offset). `None`: more bytes needed.
-    fn chain_valid(&self, win: &[u8], base: u64, q: u64, eof: bool, depth: usize) -> Option<bool> {
-        match self.chain_len(win, base, q, eof, depth)? {
+    /// Data messages of a known subscription frame by their own size here even where
+    /// it is not their format's: a logger that writes every message of a topic with
+    /// the wrong size must not turn the rest of the log into one damaged stretch.
+    /// (Looking for a place to resynchronise stays strict: there the exact size is
+    /// much of what tells a real header from chance bytes.)
+    /// Reaching the end counts after `at_end` messages or more.
+    fn chain_valid(
+        &self,
+        win: &[u8],
+        base: u64,
+        q: u64,
+        eof: bool,
+        depth: usize,
+        at_end: usize,
+    ) -> Option<bool> {
+        match self.chain_len(win, base, q, eof, depth, true)? {
             (n, _) if n > depth => Some(true),
-            (_, reached_end) => Some(reached_end),
+            (n, reached_end) => Some(reached_end && n >= at_end),
         }
     }
 
     /// How many plausible messages follow from `q` (up to `depth + 1`), and whether
-    /// they end at the end of the file or an appended offset. `None`: more bytes
-    /// needed.
+    /// they end at the end of the file or an appended offset; `any_size`: data
+    /// messages of a known subscription count whatever their size. `None`: more
+    /// bytes needed.
     fn chain_len(
         &self,
         win: &[u8],
@@ -218,6 +256,7 @@ impl Framer {
         q: u64,
         eof: bool,
         depth: usize,
+        any_size: bool,
     ) -> Option<(usize, bool)> {
         let mut q = q;
         let mut new_ids: Vec<u16> = Vec::new();
@@ -229,7 +268,13 @@ impl Framer {
             if self.appended.first() == Some(&q) {
                 return Some((n, true));
             }
-            match self.check(win, base, q, eof, true, &new_ids) {
+            let check = match self.check(win, base, q, eof, true, &new_ids) {
+                Check::Bad(Bad::SizeMismatch(..)) if any_size => {
+                    Check::Ok(u16_at(win, (q - base) as usize))
+                }
+                other => other,
+            };
+            match check {
                 Check::NeedMore => return None,
                 Check::Bad(_) => return Some((n, false)),
                 Check::Ok(size) => {

@@ -141,8 +141,9 @@ impl RawPlan {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub(crate) fn decode<T: WireField>(&self, payload: &[u8]) -> Result<T, DecodeError> {
+        let payload = self.format_bytes(payload);
         let len = payload.len();
         if len != self.size && len != self.min_size {
             return Err(self.length_error(len));
@@ -174,6 +175,14 @@ impl RawPlan {
         Ok(T::from_wire(&wire, self.present()))
     }
 
+    /// The bytes of a payload that its format describes: all of them, but for a data
+    /// message longer than its format (reported by the reader as a size mismatch and
+    /// kept), whose fields are where the format puts them.
+    #[inline(always)]
+    fn format_bytes<'a>(&self, payload: &'a [u8]) -> &'a [u8] {
+        payload.get(..self.size).unwrap_or(payload)
+    }
+
     /// Borrows a payload as `T` (see [`Plan::view`]).
     pub(crate) fn view<'a, T: WireField + WireImage>(
         &self,
@@ -185,6 +194,7 @@ impl RawPlan {
                 "a view needs a binding whose memory is its wire image: fields of `u8`, `i8`, `CharArray<N>`, `ulog_core::typed::le` types, arrays and nested such bindings (no `bool`, no `Option`)"
             )
         };
+        let payload = self.format_bytes(payload);
         let len = payload.len();
         if len != self.size && len != self.min_size {
             return Err(self.length_error(len));

@@ -6,6 +6,7 @@ use core::marker::PhantomData;
 
 use super::error::TypedError;
 use super::topics::{TopicPlan, ULogTopics};
+use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 
 /// What one subscription became.
@@ -19,42 +20,70 @@ enum Slot {
     Unread,
 }
 
+/// One subscription's plan, beside the unwrapper of its timestamps (one lookup per
+/// record for both).
+struct Entry {
+    slot: Slot,
+    unwrap: Option<Unwrapper>,
+}
+
 /// The plans of `E`, by subscription index.
 pub(crate) struct Plans<E> {
-    slots: Vec<Slot>,
+    entries: Vec<Entry>,
     topics: PhantomData<fn() -> E>,
 }
 
 impl<E: ULogTopics> Plans<E> {
     pub fn new() -> Plans<E> {
         Plans {
-            slots: Vec::new(),
+            entries: Vec::new(),
             topics: PhantomData,
         }
     }
 
-    /// The plan that decodes `topic`'s records (`None`: they are not read), made at
-    /// its first record. A format that does not fit its variant, or cannot be laid
-    /// out, is the error of that first call; later calls say `None`.
+    /// Plans `topic` at its first record: a format that does not fit its variant, or
+    /// cannot be laid out, is the error of that first call, and the topic is not read.
     #[inline]
-    pub fn get(&mut self, topic: &Subscription) -> Result<Option<&TopicPlan>, TypedError> {
-        let i = topic.index();
-        if !matches!(self.slots.get(i), Some(Slot::Planned(_) | Slot::Unread)) {
-            self.plan(topic)?;
+    pub fn meet(&mut self, topic: &Subscription) -> Result<(), TypedError> {
+        match self.entries.get(topic.index()) {
+            Some(Entry {
+                slot: Slot::Planned(_) | Slot::Unread,
+                ..
+            }) => Ok(()),
+            _ => self.plan(topic),
         }
-        Ok(match &self.slots[i] {
+    }
+
+    /// The plan that decodes the records of subscription `i` (met before), or `None`
+    /// where they are not read.
+    #[inline]
+    pub fn get(&self, i: usize) -> Option<&TopicPlan> {
+        match &self.entries[i].slot {
             Slot::Planned(plan) => Some(plan),
             _ => None,
-        })
+        }
+    }
+
+    /// The timestamp of `payload`, the next record of `topic` (met before) in file
+    /// order, narrow timestamps unwrapped.
+    #[inline]
+    pub fn time(&mut self, topic: &Subscription, payload: &[u8]) -> Option<u64> {
+        self.entries[topic.index()]
+            .unwrap
+            .get_or_insert_with(|| Unwrapper::new(topic.timestamp_field()))
+            .push(payload)
     }
 
     #[cold]
     fn plan(&mut self, topic: &Subscription) -> Result<(), TypedError> {
         let i = topic.index();
-        if i >= self.slots.len() {
-            self.slots.resize_with(i + 1, || Slot::Unplanned);
+        if i >= self.entries.len() {
+            self.entries.resize_with(i + 1, || Entry {
+                slot: Slot::Unplanned,
+                unwrap: None,
+            });
         }
-        self.slots[i] = Slot::Unread;
+        self.entries[i].slot = Slot::Unread;
         let Some(variant) = E::variant_of(topic.name()) else {
             return Ok(());
         };
@@ -62,7 +91,7 @@ impl<E: ULogTopics> Plans<E> {
             .layout()
             .map_err(|e| TypedError::no_layout(topic, e))?;
         match E::plan(variant, layout) {
-            Some(Ok(plan)) => self.slots[i] = Slot::Planned(plan),
+            Some(Ok(plan)) => self.entries[i].slot = Slot::Planned(plan),
             Some(Err(m)) => return Err(TypedError::mismatch(topic, m)),
             None => {}
         }

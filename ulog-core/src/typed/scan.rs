@@ -1,7 +1,6 @@
 //! [`scan_topics`]: several topics of a log decoded into a [`ULogTopics`] enum in one
 //! pass, in file order or by timestamp.
 
-use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
@@ -91,16 +90,10 @@ where
     let raw_others = options.raw_others;
     match options.order {
         ScanOrder::File => {
-            // Each subscription's timestamps, unwrapped as its records come.
-            let mut unwrap: Vec<Option<Unwrapper>> = Vec::new();
             drive(source.into(), options.read_ahead, &mut |r| {
-                let i = r.topic.index();
-                if i >= unwrap.len() {
-                    unwrap.resize(i + 1, None);
-                }
-                let u = unwrap[i].get_or_insert_with(|| Unwrapper::new(r.topic.timestamp_field()));
-                let timestamp = u.push(r.payload);
-                hand(&mut plans, raw_others, &mut f, &r, timestamp)
+                // Each subscription's timestamps, unwrapped as its records come.
+                let time = |plans: &mut Plans<E>| plans.time(r.topic, r.payload);
+                hand(&mut plans, raw_others, &mut f, &r, time)
             })
         }
         ScanOrder::Timestamp => {
@@ -108,7 +101,7 @@ where
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
             time_ordered(source.into(), &mut |r, t| {
-                hand(&mut plans, raw_others, f, &r, t)
+                hand(&mut plans, raw_others, f, &r, |_: &mut Plans<E>| t)
             })
         }
     }
@@ -125,22 +118,26 @@ fn hand<E, F, R>(
     raw_others: bool,
     f: &mut F,
     r: &DataRecord<'_>,
-    timestamp: Option<u64>,
+    time: impl FnOnce(&mut Plans<E>) -> Option<u64>,
 ) -> Hand
 where
     E: ULogTopics,
     F: Handler<E, R> + ?Sized,
     R: ScanFlow,
 {
-    let item = match plans.get(r.topic) {
-        Ok(Some(plan)) => match E::decode(plan, r.payload) {
+    let met = plans.meet(r.topic);
+    let timestamp = time(plans);
+    // The first record of a topic that does not fit goes the cold way.
+    if let Err(e) = met {
+        return unfit(e, r, timestamp, raw_others, f);
+    }
+    let item = match plans.get(r.topic.index()) {
+        Some(plan) => match E::decode(plan, r.payload) {
             Ok(message) => Ok(record(r, timestamp, Some(message))),
             Err(e) => Err(TypedError::decode(r.topic, r.offset, e)),
         },
-        Ok(None) if raw_others => Ok(record(r, timestamp, None)),
-        Ok(None) => return Hand::SkipTopic,
-        // The first record of a topic that does not fit goes the cold way.
-        Err(e) => return unfit(e, r, timestamp, raw_others, f),
+        None if raw_others => Ok(record(r, timestamp, None)),
+        None => return Hand::SkipTopic,
     };
     Hand::go_on(f(item).go_on())
 }

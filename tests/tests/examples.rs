@@ -1,5 +1,5 @@
 //! Runs the examples as CI does (`cargo run -p ulog-examples --example NAME -- ARGS`)
-//! and checks what they print; and keeps `data/reference.ulg`, the schema
+//! and checks what they print; and keeps `examples/data/reference.ulg`, the schema
 //! `replay_check` is compiled against, equal to what `reference_log()` builds
 //! (`ULOG_BLESS=1` rewrites it).
 
@@ -30,16 +30,9 @@ fn run(example: &str, args: &[&str]) -> (i32, String) {
     (out.status.code().unwrap_or(-1), stdout)
 }
 
-fn corpus_file(name: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/corpus/files")
-        .join(name);
-    if p.is_file() {
-        Some(p)
-    } else {
-        eprintln!("{name}: SKIPPED, no shared corpus at ../shared/corpus");
-        None
-    }
+/// A log of the corpus the tests check (see `ulog_tests::corpus_dir`).
+fn corpus_file(name: &str) -> PathBuf {
+    ulog_tests::corpus_dir().join("files").join(name)
 }
 
 /// A line of `text` that starts with `label` (after indentation).
@@ -63,7 +56,7 @@ fn number(line: &str) -> f64 {
 
 #[test]
 fn reference_log_is_up_to_date() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/reference.ulg");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/reference.ulg");
     let bytes = ulog_examples::reference_log();
     if std::env::var_os("ULOG_BLESS").is_some() {
         std::fs::write(&path, &bytes).unwrap();
@@ -103,10 +96,12 @@ fn flight_summary_of_the_sample_log() {
 #[test]
 fn flight_summary_of_real_logs() {
     // Flights of an older and a recent firmware: GPS fields `int32_t` and `double`.
-    for name in ["esc_status_log.ulg", "corrupt_unregistered_msg_id.ulg"] {
-        let Some(path) = corpus_file(name) else {
-            return;
-        };
+    let mut names = vec!["esc_status_log.ulg"];
+    if ulog_tests::FULL_CORPUS {
+        names.push("corrupt_unregistered_msg_id.ulg");
+    }
+    for name in names {
+        let path = corpus_file(name);
         let (code, out) = run("flight_summary", &[path.to_str().unwrap()]);
         assert_eq!(code, 0, "{name}");
         let peak = number(line(&out, "peak altitude:"));
@@ -123,20 +118,14 @@ fn flight_summary_of_real_logs() {
 /// its figures, each it lacks is named as lacking.
 #[test]
 fn flight_summary_of_every_corpus_log() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus");
-    if !dir.join("files").is_dir() {
-        eprintln!(
-            "flight_summary_of_every_corpus_log: SKIPPED, no shared corpus at ../shared/corpus"
-        );
-        return;
-    }
+    let dir = ulog_tests::corpus_dir();
     let mut logs: Vec<PathBuf> = std::fs::read_dir(dir.join("files"))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "ulg"))
         .collect();
     logs.sort();
-    assert!(logs.len() >= 19);
+    assert!(logs.len() >= if ulog_tests::FULL_CORPUS { 19 } else { 5 });
     let mut with_data = [0usize; 3];
     for path in &logs {
         let stem = path.file_stem().unwrap().to_string_lossy();
@@ -196,7 +185,8 @@ fn flight_summary_of_every_corpus_log() {
     }
     // Not a check that passes for want of data: most logs, of older and newer
     // firmware, have data in each of the three.
-    assert!(with_data.iter().all(|&n| n >= 10), "{with_data:?}");
+    let least = if ulog_tests::FULL_CORPUS { 10 } else { 1 };
+    assert!(with_data.iter().all(|&n| n >= least), "{with_data:?}");
 }
 
 #[test]
@@ -255,10 +245,12 @@ fn replay_check_refuses_changed_formats_with_every_difference() {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus: ../shared/corpus beside the workspace, or $ULOG_CORPUS"
+)]
 fn replay_check_refuses_a_log_of_another_firmware() {
-    let Some(path) = corpus_file("sample.ulg") else {
-        return;
-    };
+    let path = corpus_file("sample.ulg");
     let (code, out) = run("replay_check", &[path.to_str().unwrap()]);
     assert_eq!(code, 1);
     assert!(

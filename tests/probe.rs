@@ -1,0 +1,56 @@
+// What the tests of a package can check, for its build script (`include!`d by
+// `tests/build.rs` and `ulog-cli/build.rs`, so that both follow one rule).
+//
+// The corpus of real logs: the folder `$ULOG_CORPUS` names (absolute, or relative to
+// the package), else the full shared corpus beside the workspace (`../shared/corpus`),
+// else the repository's own five logs (`tests/corpus`). It reaches the tests as
+// `ULOG_TESTS_CORPUS`; `cfg(full_corpus)` is set unless it is the repository's own
+// (tests that need a log only the full corpus has are `ignore`d then). `cfg(pyulog)`
+// is set where `python3` can import pyulog (tests that run it are `ignore`d
+// otherwise; install it, then touch the build script to rebuild them). With
+// `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
+// the build instead, so that no test is ignored there.
+
+/// Probes the corpus and pyulog for the package whose build script this is; `shared`
+/// and `own` are the two corpus folders relative to the package. Returns the corpus.
+fn probe(shared: &str, own: &str) -> std::path::PathBuf {
+    use std::path::Path;
+    println!("cargo::rustc-check-cfg=cfg(full_corpus, pyulog)");
+    println!("cargo::rerun-if-changed=build.rs");
+    println!("cargo::rerun-if-changed=../tests/probe.rs");
+    println!("cargo::rerun-if-env-changed=ULOG_CORPUS");
+    println!("cargo::rerun-if-env-changed=ULOG_REQUIRE_ALL_TESTS");
+    let require = std::env::var_os("ULOG_REQUIRE_ALL_TESTS").is_some();
+    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR");
+    let manifest = Path::new(&manifest);
+    let corpus = match std::env::var_os("ULOG_CORPUS") {
+        Some(dir) => manifest.join(dir),
+        None if manifest.join(shared).join("files").is_dir() => manifest.join(shared),
+        None => manifest.join(own),
+    };
+    let corpus = corpus
+        .canonicalize()
+        .unwrap_or_else(|e| panic!("the corpus of real logs {}: {e}", corpus.display()));
+    let own = manifest.join(own).canonicalize().expect("tests/corpus");
+    if corpus != own {
+        println!("cargo::rustc-cfg=full_corpus");
+    } else if require {
+        panic!(
+            "ULOG_REQUIRE_ALL_TESTS is set but the full corpus is absent \
+             (../shared/corpus beside the workspace, or $ULOG_CORPUS)"
+        );
+    }
+    println!("cargo::rustc-env=ULOG_TESTS_CORPUS={}", corpus.display());
+    println!("cargo::rerun-if-changed={}", corpus.join("files").display());
+    // pyulog, the reference reader, for the tests that run it.
+    let pyulog = std::process::Command::new("python3")
+        .args(["-c", "import pyulog"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if pyulog {
+        println!("cargo::rustc-cfg=pyulog");
+    } else if require {
+        panic!("ULOG_REQUIRE_ALL_TESTS is set but python3 cannot import pyulog");
+    }
+    corpus
+}
