@@ -386,7 +386,7 @@ mod tests {
     /// Every 16th `f32` bit pattern (268 million values); slow, run with
     /// `cargo test --release -p ulog-cli -- --ignored`.
     #[test]
-    #[ignore]
+    #[ignore = "slow (268 million values): cargo test --release -p ulog-cli -- --ignored"]
     fn f32_agrees_with_the_old_formatter_on_every_16th_pattern() {
         std::thread::scope(|s| {
             for t in 0..4u32 {
