@@ -41,12 +41,22 @@ enum Bytes {
 
 impl LogFile {
     /// Reads the file at `path` into memory (a snapshot of it; see [`LogFile`]): as
-    /// many bytes as it held when opened, or fewer if it shrinks meanwhile.
+    /// many bytes as it held when opened, or fewer if it shrinks meanwhile. A path
+    /// that is not a regular file (a pipe, a device) is read to its end.
     pub fn open(path: impl AsRef<Path>) -> Result<LogFile, ReadError> {
         let path = path.as_ref();
         let io = |e: std::io::Error| ReadError::io(e, None).in_file(path);
         let file = std::fs::File::open(path).map_err(io)?;
-        let len = file.metadata().map_err(io)?.len();
+        let meta = file.metadata().map_err(io)?;
+        if !meta.is_file() {
+            let mut bytes = Vec::new();
+            std::io::Read::read_to_end(&mut &file, &mut bytes).map_err(io)?;
+            return Ok(LogFile {
+                bytes: Bytes::Read(bytes),
+                path: path.to_owned(),
+            });
+        }
+        let len = meta.len();
         #[cfg(feature = "mmap")]
         if len >= LARGE {
             if let Some(bytes) = read_large(&file, len).map_err(io)? {
@@ -181,6 +191,26 @@ mod tests {
             let parsed = file.parse().unwrap();
             assert!(parsed.topic("vehicle_attitude", 0).is_ok(), "{name}");
         }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A pipe has no length: it is read to its end.
+    #[cfg(unix)]
+    #[test]
+    fn open_reads_a_pipe_to_its_end() {
+        let dir = std::env::temp_dir().join(format!("ulog-logfile-fifo-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fifo = dir.join("log.fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        let log = crate::testing::sample_log();
+        let writer = {
+            let (fifo, log) = (fifo.clone(), log.clone());
+            std::thread::spawn(move || std::fs::write(fifo, log).unwrap())
+        };
+        let file = LogFile::open(&fifo).unwrap();
+        writer.join().unwrap();
+        assert_eq!(file.bytes(), &log[..]);
         std::fs::remove_dir_all(&dir).ok();
     }
 }
