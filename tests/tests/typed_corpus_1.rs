@@ -21,14 +21,9 @@ fn generated_bindings_decode_every_row_like_pyulog() {
 /// of them, each once.
 #[test]
 fn every_corpus_log_has_generated_bindings() {
-    {
-        let mut files: Vec<String> = std::fs::read_dir(typed_corpus_common::corpus().join("files"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "ulg"))
-            .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
-            .collect();
-        files.sort();
-        assert_eq!(bindings::ALL_STEMS, files, "rebuild: the corpus changed");
-    }
+    let files: Vec<String> = ulog_tests::corpus_files()
+        .iter()
+        .map(|p| ulog_tests::stem(p))
+        .collect();
+    assert_eq!(bindings::ALL_STEMS, files, "rebuild: the corpus changed");
 }

@@ -16,53 +16,51 @@ mod bindings {
 
 #[test]
 fn view_bindings_borrow_every_row_of_real_logs() {
-    {
-        use std::collections::BTreeSet;
-        use ulog_core::LogFile;
+    use std::collections::BTreeSet;
+    use ulog_core::LogFile;
 
-        let totals = typed_corpus_common::check_logs_with(bindings::ALL_STEMS, |stem, c| {
-            bindings::visit_log(stem, c);
-            true
-        });
-        let (mut rows, mut borrowed) = (0, 0);
-        for t in &totals {
-            let file = typed_corpus_common::corpus().join(format!("files/{}.ulg", t.stem));
-            let file = LogFile::open(&file).unwrap();
-            let log = file.parse().unwrap();
-            // Formats that appear as a nested type in another format.
-            let nested: BTreeSet<&str> = log
-                .formats()
-                .iter()
-                .flat_map(|f| f.fields.iter())
-                .filter_map(|f| match &f.ty {
-                    ulog_core::format::TypeName::Nested(n) => Some(n.as_str()),
-                    _ => None,
-                })
-                .collect();
-            let mut copied = 0;
-            for (topic, n, why) in &t.not_borrowed {
-                assert!(
-                    nested.contains(topic.as_str()),
-                    "{}: `{topic}`: {n} rows not borrowed: {why}",
-                    t.stem
-                );
-                assert!(
-                    why.contains("trailing padding"),
-                    "{}: `{topic}`: {why}",
-                    t.stem
-                );
-                copied += n;
-            }
-            assert_eq!(t.borrowed + copied, t.rows, "{}", t.stem);
-            eprintln!(
-                "{}: {} of {} rows borrowed ({} of a topic nested in another, copied)",
-                t.stem, t.borrowed, t.rows, copied
+    let totals = typed_corpus_common::check_logs_with(bindings::ALL_STEMS, |stem, c| {
+        bindings::visit_log(stem, c);
+        true
+    });
+    let (mut rows, mut borrowed) = (0, 0);
+    for t in &totals {
+        let file = ulog_tests::corpus_dir().join(format!("files/{}.ulg", t.stem));
+        let file = LogFile::open(&file).unwrap();
+        let log = file.parse().unwrap();
+        // Formats that appear as a nested type in another format.
+        let nested: BTreeSet<&str> = log
+            .formats()
+            .iter()
+            .flat_map(|f| f.fields.iter())
+            .filter_map(|f| match &f.ty {
+                ulog_core::format::TypeName::Nested(n) => Some(n.as_str()),
+                _ => None,
+            })
+            .collect();
+        let mut copied = 0;
+        for (topic, n, why) in &t.not_borrowed {
+            assert!(
+                nested.contains(topic.as_str()),
+                "{}: `{topic}`: {n} rows not borrowed: {why}",
+                t.stem
             );
-            rows += t.rows;
-            borrowed += t.borrowed;
+            assert!(
+                why.contains("trailing padding"),
+                "{}: `{topic}`: {why}",
+                t.stem
+            );
+            copied += n;
         }
-        assert_eq!(totals.len(), bindings::ALL_STEMS.len());
-        assert!(borrowed > 0);
-        eprintln!("views: {borrowed} of {rows} rows borrowed in place");
+        assert_eq!(t.borrowed + copied, t.rows, "{}", t.stem);
+        eprintln!(
+            "{}: {} of {} rows borrowed ({} of a topic nested in another, copied)",
+            t.stem, t.borrowed, t.rows, copied
+        );
+        rows += t.rows;
+        borrowed += t.borrowed;
     }
+    assert_eq!(totals.len(), bindings::ALL_STEMS.len());
+    assert!(borrowed > 0);
+    eprintln!("views: {borrowed} of {rows} rows borrowed in place");
 }

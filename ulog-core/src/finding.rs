@@ -297,17 +297,6 @@ impl Finding {
 
 impl fmt::Display for Finding {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.describe(f)?;
-        if self.count > 1 {
-            write!(
-                f,
-                " ({} times, bytes {}..{})",
-                self.count,
-                self.offset,
-                self.offset + self.len
-            )
-        } else {
-            write!(f, " at byte {}", self.offset)
-        }
+        write!(f, "{} at byte {}", self.what(), self.offset)
     }
 }

@@ -36,7 +36,7 @@ pub use error::{FormatError, FormatErrorKind, LayoutError, LayoutErrorKind};
 pub use layout::{
     FieldRef, FormatLookup, Layout, LayoutField, LayoutType, Leaf, LeafKind, Limits, Resolver,
 };
-pub use parse::{parse_field, parse_key, Field, Format, TypeName};
+pub use parse::{parse_field, parse_key, parse_key_as_written, Field, Format, TypeName};
 pub use span::Span;
 
 /// Whether a field name marks padding: names starting with `_padding` are never

@@ -230,6 +230,21 @@ pub fn parse_key(text: &str) -> Result<Field, FormatError> {
     parse_field_at(text, 0, is_name_char).map_err(|mut e| e.swap_remove(0))
 }
 
+/// Parses a key as real logs write it: [`parse_key`]'s grammar, except that the name
+/// may hold any character but a control character, spaces included (PX4 writes
+/// `char[11] Build Date`). The type still follows the grammar, so the value can be
+/// read by it.
+///
+/// ```
+/// let f = ulog_format::parse_key_as_written("char[11] Build Date").unwrap();
+/// assert_eq!((f.name.as_str(), f.array_len), ("Build Date", Some(11)));
+/// assert!(ulog_format::parse_key("char[11] Build Date").is_err());
+/// assert!(ulog_format::parse_key_as_written("char[11] Build\nDate").is_err());
+/// ```
+pub fn parse_key_as_written(text: &str) -> Result<Field, FormatError> {
+    parse_field_at(text, 0, |c| !c.is_control()).map_err(|mut e| e.swap_remove(0))
+}
+
 fn check_type_name(name: &str, offset: usize, errors: &mut Vec<FormatError>) {
     if name.is_empty() {
         errors.push(FormatError {

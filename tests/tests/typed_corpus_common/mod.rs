@@ -11,17 +11,10 @@
 #![allow(dead_code)]
 
 use std::collections::BTreeSet;
-use std::path::PathBuf;
 
 use ulog_core::typed::{BindingVisitor, TypedErrorKind, ViewVisitor, WireImage};
 use ulog_core::{LogFile, Topic, ULog, ULogMessage, Value};
-use ulog_tests::{cell_matches, recovered_stretches};
-
-/// The corpus `build.rs` generated the bindings from (so that the bindings and the
-/// expected outputs agree).
-pub fn corpus() -> PathBuf {
-    ulog_tests::corpus_dir()
-}
+use ulog_tests::{cell_matches, corpus_dir as corpus, recovered_stretches};
 
 /// Checks each topic instance of one log with the bindings generated from it.
 pub struct Checker<'l, 'a> {

@@ -184,9 +184,9 @@ fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
 }
 
 /// Tables with more leaf columns than this are written without dictionary encoding:
-/// each column's dictionary encoder holds about 55 KB whatever the row count, which
-/// for a log with 65,000 leaf columns per topic was 4 GB of the export's 4.6 GB peak
-/// (BENCHMARKS.md). PX4 topics have a few hundred leaves at most, and keep it.
+/// each column's dictionary encoder holds tens of KB whatever the row count, which
+/// for very wide formats is most of the export's memory (bench/README.md). PX4 topics
+/// have a few hundred leaves at most, and keep it.
 const DICTIONARY_LEAVES: usize = 1024;
 
 /// The number of leaf columns (Parquet columns) of `fields`.

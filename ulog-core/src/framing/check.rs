@@ -3,7 +3,7 @@
 
 use crate::bytes::{u16_at, HEADER_SIZE, SYNC_MAGIC};
 use crate::definitions::NO_SUB;
-use ulog_format::{BasicType, FormatErrorKind, TypeName};
+use ulog_format::TypeName;
 
 use super::Framer;
 
@@ -73,31 +73,28 @@ pub(crate) fn is_text_byte(b: u8) -> bool {
     b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x1b)
 }
 
-/// Whether the key of an information or parameter message reads as `type name` in the
-/// format grammar (`ulog_format::parse_key`) with a basic type. While
-/// resynchronising, the name must follow the grammar too and the value must have the
-/// type's size, so that a stretch of binary whose first bytes happen to hold a space
-/// does not pass for a key and swallow the messages after it; elsewhere a name past
-/// the grammar (real logs have `char[11] Build Date`) is kept.
+/// Whether the key of an information or parameter message reads as `type name` with a
+/// basic type. While resynchronising, the name must follow the format grammar
+/// (`ulog_format::parse_key`) and the value must have the type's size, so that a
+/// stretch of binary whose first bytes happen to hold a space does not pass for a key
+/// and swallow the messages after it; elsewhere a key is read as written
+/// (`parse_key_as_written`: real logs have `char[11] Build Date`), as the reader
+/// reads it.
 fn plausible_key(key: &[u8], value_len: usize, resync: bool) -> bool {
     let Ok(text) = std::str::from_utf8(key) else {
         return false;
     };
-    match ulog_format::parse_key(text) {
+    let field = if resync {
+        ulog_format::parse_key(text)
+    } else {
+        ulog_format::parse_key_as_written(text)
+    };
+    match field {
         Ok(field) => match field.ty {
             TypeName::Basic(b) => !resync || b.size() * field.array_len.unwrap_or(1) == value_len,
             TypeName::Nested(_) => false,
         },
-        Err(e) => {
-            // The grammar reports the type's errors before the name's: a name error
-            // first means the type read well.
-            let ty = text.split(' ').next().unwrap_or("");
-            let base = ty.split('[').next().unwrap_or("");
-            !resync
-                && matches!(e.kind, FormatErrorKind::InvalidFieldNameChar(_))
-                && BasicType::from_name(base).is_some()
-                && text.bytes().all(is_text_byte)
-        }
+        Err(_) => false,
     }
 }
 

@@ -51,11 +51,7 @@ impl Framer {
             // A message of a type this reader does not know has only its size to go
             // by: chance bytes (a run of sync magic, say) can make one that ends
             // exactly at the end of the file, so it needs a message after it too.
-            let at_end = if matches!(bad, Bad::UnknownType(_)) {
-                1
-            } else {
-                0
-            };
+            let at_end = usize::from(matches!(bad, Bad::UnknownType(_)));
             match self.chain_valid(win, base, end, eof, CHAIN_DEPTH, at_end) {
                 None => return Some(Step::NeedMore),
                 Some(true) => {

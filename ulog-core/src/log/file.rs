@@ -129,7 +129,7 @@ impl LogFile {
 
 /// From this size on, [`LogFile::open`] reads into anonymous memory that may be
 /// backed by huge pages: the copy of a large log then faults a page per 2 MiB instead
-/// of per 4 KiB, which halves its time (bench/README.md).
+/// of per 4 KiB (bench/README.md has what it saves).
 #[cfg(feature = "mmap")]
 const LARGE: u64 = 8 << 20;
 

@@ -1,6 +1,6 @@
 //! Borrowed views of the messages of a ULog file, one variant per message type.
 
-use ulog_format::{parse_key, Field, Span, TypeName};
+use ulog_format::{parse_key_as_written, Field, TypeName};
 
 use crate::bytes::{u16_at, u64_at};
 use crate::framing::{FlagBits, Record};
@@ -20,7 +20,9 @@ pub struct KeyValue<'a> {
 
 impl<'a> KeyValue<'a> {
     pub(crate) fn parse(key: &'a [u8], raw: &'a [u8]) -> KeyValue<'a> {
-        let field = core::str::from_utf8(key).ok().and_then(parse_loose_key);
+        let field = core::str::from_utf8(key)
+            .ok()
+            .and_then(|k| parse_key_as_written(k).ok());
         KeyValue {
             key: LogText(key),
             field,
@@ -50,27 +52,6 @@ impl<'a> KeyValue<'a> {
             _ => Value::Bytes(self.raw),
         }
     }
-}
-
-/// A key as `type name`: in the format grammar, or with a name past it (real logs have
-/// `char[11] Build Date`: the name is everything after the first space, and the value
-/// is still decoded by the type).
-fn parse_loose_key(key: &str) -> Option<Field> {
-    if let Ok(field) = parse_key(key) {
-        return Some(field);
-    }
-    let (ty, name) = key.split_once(' ')?;
-    let name = name.trim();
-    if name.is_empty() || name.chars().any(char::is_control) {
-        return None;
-    }
-    let mut field = parse_key(&format!("{ty} x")).ok()?;
-    field.name = name.to_owned();
-    field.span = Span {
-        start: 0,
-        end: key.len(),
-    };
-    Some(field)
 }
 
 /// The level of a logged string, as in the Linux kernel.

@@ -20,8 +20,8 @@ enum Slot {
     Unread,
 }
 
-/// One subscription's plan, beside the unwrapper of its timestamps (one lookup per
-/// record for both).
+/// One subscription's plan, beside the unwrapper of its timestamps: one vector, sized
+/// at a subscription's first record, for both.
 struct Entry {
     slot: Slot,
     unwrap: Option<Unwrapper>,
