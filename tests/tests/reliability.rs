@@ -2,10 +2,10 @@
 //! it, against pyulog where it reads the same bytes: the rows we keep are a superset
 //! of pyulog's.
 
-use ulog_core::read::{FindingKind, ReadErrorKind};
-use ulog_core::testing::LogBuilder;
+use ulog_core::read::{Corruption, FindingKind, Messages, ReadErrorKind};
+use ulog_core::testing::{LogBuilder, Rng};
 use ulog_core::{ScanOptions, Source, ULog};
-use ulog_tests::pyulog_dump;
+use ulog_tests::{cell_matches, pyulog_dump};
 
 const FORMAT: &str = "t:uint64_t timestamp;uint32_t a;uint32_t b;";
 
@@ -332,4 +332,168 @@ fn a_run_of_repeated_sync_markers_is_one_finding() {
         .map(|f| f.len)
         .sum();
     assert!(damaged >= (run as u64 - 1) * 8, "{damaged}");
+}
+
+/// A log as an SD card keeps it after a power loss (item 5: a real PX4 v1.14 log):
+/// good messages interleaved with runs of zero bytes (blocks the card never wrote,
+/// which read as message headers of size 0 and type 0), then megabytes of zeros (the
+/// rest of the file, allocated but never written).
+struct PowerLoss {
+    bytes: Vec<u8>,
+    /// The runs of zeros put between messages: (offset, length).
+    zero_runs: Vec<(usize, usize)>,
+    /// Where the zeros at the end start.
+    tail: usize,
+}
+
+/// The zeros at the end of a power-loss log: 2 MiB, as in the real log.
+const POWER_LOSS_TAIL: usize = 2 << 20;
+
+/// A power-loss log made of the real log `real`: its messages unchanged up to
+/// `damaged` messages before three quarters of it; those are dealt into islands of one
+/// to four messages, each followed by a run of 200 bytes to 4 KiB of zeros, or (one
+/// gap in four) with the bytes from the last 512-byte block boundary on zeroed
+/// instead (a block the card never wrote, cutting the messages on it); then
+/// `POWER_LOSS_TAIL` zeros.
+fn power_loss(real: &[u8], damaged: usize, rng: &mut Rng) -> PowerLoss {
+    let offsets: Vec<usize> = Messages::new(real)
+        .map(|m| m.unwrap().offset as usize)
+        .collect();
+    let end = |o: usize| o + 3 + u16::from_le_bytes([real[o], real[o + 1]]) as usize;
+    let last = offsets.len() * 3 / 4;
+    let first = last - damaged;
+    let mut out = real[..offsets[first]].to_vec();
+    let mut zero_runs = Vec::new();
+    let mut k = first;
+    loop {
+        let island = &offsets[k..(k + 1 + rng.below(4)).min(last)];
+        for &o in island {
+            out.extend_from_slice(&real[o..end(o)]);
+        }
+        k += island.len();
+        if k == last {
+            break;
+        }
+        let block = (out.len() - 1) / 512 * 512;
+        if rng.below(4) == 0 && block > offsets[first] {
+            out[block..].fill(0);
+        } else {
+            let len = 200 + rng.below(4096 - 200 + 1);
+            zero_runs.push((out.len(), len));
+            out.resize(out.len() + len, 0);
+        }
+    }
+    let tail = out.len();
+    out.resize(tail + POWER_LOSS_TAIL, 0);
+    PowerLoss {
+        bytes: out,
+        zero_runs,
+        tail,
+    }
+}
+
+/// Every row pyulog keeps (`py`, from [`pyulog_dump`]) is one of ours, in the same
+/// order within its topic instance, value for value (every column our field lookup
+/// resolves: all but pyulog's one column per character of a `char[N]`). Returns the
+/// row counts, ours and pyulog's.
+fn assert_rows_superset(log: &ULog<'_>, py: &serde_json::Value, what: &str) -> (usize, usize) {
+    let cell = |e: &serde_json::Value, v: &ulog_core::Value<'_>| {
+        let text = e.as_str().map_or_else(|| e.to_string(), str::to_owned);
+        cell_matches(&text, v)
+    };
+    let mut theirs = 0;
+    for (key, cols) in py["topics"].as_object().unwrap() {
+        let (name, multi_id) = key.rsplit_once('/').unwrap();
+        let t = log
+            .topic(name, multi_id.parse().unwrap())
+            .unwrap_or_else(|e| panic!("{what}: {key}: pyulog has rows, we have none ({e})"));
+        let cols: Vec<_> = cols
+            .as_object()
+            .unwrap()
+            .iter()
+            .filter_map(|(c, v)| Some((t.field(c).ok()?, v.as_array().unwrap())))
+            .collect();
+        let rows = cols[0].1.len();
+        let mut ours = 0;
+        for row in 0..rows {
+            loop {
+                let p = t.payload(ours).unwrap_or_else(|| {
+                    panic!(
+                        "{what}: {key}: pyulog's row {row} of {rows} (timestamp {}) is not ours",
+                        py["topics"][key]["timestamp"][row]
+                    )
+                });
+                ours += 1;
+                if cols.iter().all(|(f, v)| cell(&v[row], &f.read(p).unwrap())) {
+                    break;
+                }
+            }
+        }
+        theirs += rows;
+    }
+    (log.topics().map(|t| t.len()).sum(), theirs)
+}
+
+/// Every run of zeros is reported as damage where it starts (the runs between messages
+/// and the zeros at the end), never skipped silently.
+fn assert_zeros_reported(log: &ULog<'_>, pl: &PowerLoss, what: &str) {
+    let damage: Vec<_> = log.findings().iter().filter(|f| f.is_damage()).collect();
+    for &(o, len) in &pl.zero_runs {
+        assert!(
+            damage
+                .iter()
+                .any(|f| f.offset <= o as u64 && (o as u64) < f.offset + f.len),
+            "{what}: the zeros at {o} ({len} bytes) are not reported: {damage:?}"
+        );
+    }
+    let last = damage.last().unwrap();
+    assert_eq!(
+        last.kind,
+        FindingKind::Corrupt(Corruption::ZeroFill),
+        "{what}"
+    );
+    assert_eq!(last.offset + last.len, pl.bytes.len() as u64, "{what}");
+    assert!(last.offset <= pl.tail as u64, "{what}: {last:?}");
+}
+
+/// Item 5: a power-loss log (see [`power_loss`]) lost messages pyulog reads: a message
+/// alone between two runs of zeros, or two, did not start the chain of three messages
+/// that resynchronising asked for. Now the rows we keep are a superset of pyulog's
+/// (which misses others, after the runs where it finds no header) and every run of
+/// zeros is still reported.
+#[test]
+#[cfg_attr(
+    not(pyulog),
+    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch tests/build.rs"
+)]
+fn a_power_loss_log_keeps_every_row_pyulog_keeps() {
+    let real = std::fs::read(ulog_tests::own_log("esc_status_log.ulg")).unwrap();
+    for seed in 1..=3 {
+        let pl = power_loss(&real, 300, &mut Rng::new(0x5eed_0500 + seed));
+        let what = format!("seed {seed}");
+        let log = ULog::parse(&pl.bytes).unwrap();
+        let py = pyulog_dump(&format!("power_loss_{seed}"), &pl.bytes);
+        let (ours, theirs) = assert_rows_superset(&log, &py, &what);
+        eprintln!("{what}: {ours} rows, pyulog {theirs}");
+        assert_zeros_reported(&log, &pl, &what);
+    }
+}
+
+/// The same on the PX4 v1.14 log of the corpus (the firmware of the real power-loss
+/// log).
+#[test]
+#[cfg_attr(
+    not(all(pyulog, full_corpus)),
+    ignore = "needs pyulog (pip install pyulog==1.3.0, then touch tests/build.rs) and the \
+              full corpus (../shared/corpus beside the workspace, or $ULOG_CORPUS)"
+)]
+fn a_power_loss_log_of_px4_1_14_keeps_every_row_pyulog_keeps() {
+    let path = ulog_tests::corpus_dir().join("files/log_123_2024-3-1-14-47-02.ulg");
+    let real = std::fs::read(path).unwrap();
+    let pl = power_loss(&real, 400, &mut Rng::new(0x5eed_0514));
+    let log = ULog::parse(&pl.bytes).unwrap();
+    let py = pyulog_dump("power_loss_v1_14", &pl.bytes);
+    let (ours, theirs) = assert_rows_superset(&log, &py, "v1.14");
+    eprintln!("v1.14: {ours} rows, pyulog {theirs}");
+    assert_zeros_reported(&log, &pl, "v1.14");
 }

@@ -478,7 +478,10 @@ fn write_float(
     format: impl FnOnce(&mut [u8; NUM_LEN]) -> usize,
 ) -> usize {
     let len = if last.bits == bits && last.at != usize::MAX {
-        buf.copy_within(last.at..last.at + NUM_LEN, pos);
+        // A fixed-size copy (two vector moves), not a call to `memmove`: repeated
+        // values are most of the cells of many topics.
+        let text: [u8; NUM_LEN] = *window(buf, last.at);
+        *window(buf, pos) = text;
         last.len
     } else {
         last.bits = bits;

@@ -18,6 +18,8 @@ struct FieldCode {
     size: TokenStream,
     /// The presence slots of a nested binding inside it.
     nested_slots: TokenStream,
+    /// How many payload offsets it takes (`WireField::SOURCES`).
+    sources: TokenStream,
     /// Its `FieldKind` and array length.
     kind: TokenStream,
     count: TokenStream,
@@ -38,6 +40,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
         Shape::Scalar(ty) => FieldCode {
             size: quote!(#private::wire_size::<#ty>()),
             nested_slots: quote!(<#ty as #wf>::OPTIONAL),
+            sources: quote!(<#ty as #wf>::SOURCES),
             kind: quote!(<#ty as #wf>::KIND),
             count: quote!(<#ty as #wf>::COUNT),
             is_wire: quote!(<#ty as #wf>::IS_WIRE),
@@ -47,6 +50,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
         Shape::Array { elem, len } => FieldCode {
             size: quote!((#private::wire_size::<#elem>() * (#len))),
             nested_slots: quote!(<#elem as #wf>::OPTIONAL),
+            sources: quote!(#private::array_sources::<#elem>(#len)),
             kind: quote!(<#elem as #wf>::KIND),
             count: quote!(::core::option::Option::Some(#len)),
             is_wire: quote!(<#elem as #wf>::IS_WIRE),
@@ -59,6 +63,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
                 None => quote!(1usize),
             },
             nested_slots: quote!(0usize),
+            sources: quote!(1usize),
             kind: quote!(#typed::FieldKind::Basic(#private::BasicType::Char)),
             count: match len {
                 Some(n) => quote!(::core::option::Option::Some(#n)),
@@ -75,6 +80,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
             FieldCode {
                 size: quote!((#bytes)),
                 nested_slots: quote!(0usize),
+                sources: quote!(0usize),
                 kind: quote!(#typed::FieldKind::Basic(#private::BasicType::#variant)),
                 count: match count {
                     Some(c) => quote!(::core::option::Option::Some(#c)),
@@ -88,24 +94,39 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
     }
 }
 
-/// Reads field `f` from `wire` at `offset`, its nested slots from `present`.
+/// Where a field is read from: the binding's wire image at an offset, or a log's
+/// payload at the offsets from `sources[k]` (`WireField::from_payload`).
+enum ReadFrom<'t> {
+    Image(&'t TokenStream),
+    Payload(&'t TokenStream),
+}
+
+/// Reads field `f`, its nested slots from `present`.
 fn read_expr(
     m: &Message,
     f: &MessageField,
-    offset: &TokenStream,
+    from: ReadFrom<'_>,
     present: &TokenStream,
 ) -> TokenStream {
     let private = m.paths.private();
     let typed = m.paths.typed();
+    let (one, array, args) = match from {
+        ReadFrom::Image(offset) => (quote!(read), quote!(read_array), quote!(wire, #offset)),
+        ReadFrom::Payload(k) => (
+            quote!(read_source),
+            quote!(read_array_source),
+            quote!(payload, sources, #k),
+        ),
+    };
     match &f.shape {
-        Shape::Scalar(ty) => quote!(#private::read::<#ty>(wire, #offset, #present)),
+        Shape::Scalar(ty) => quote!(#private::#one::<#ty>(#args, #present)),
         // The length is the field's: the compiler infers it.
-        Shape::Array { .. } => quote!(#private::read_array(wire, #offset, #present)),
+        Shape::Array { .. } => quote!(#private::#array(#args, #present)),
         Shape::CharBytes { len: Some(_) } => {
-            quote!(#private::read_array(wire, #offset, #typed::Present::ALL))
+            quote!(#private::#array(#args, #typed::Present::ALL))
         }
         Shape::CharBytes { len: None } => {
-            quote!(#private::read::<u8>(wire, #offset, #typed::Present::ALL))
+            quote!(#private::#one::<u8>(#args, #typed::Present::ALL))
         }
         Shape::Padding {
             bytes, array: true, ..
@@ -172,6 +193,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
 
     let mut consts = Vec::new();
     let mut inits = Vec::new();
+    let mut direct_inits = Vec::new();
     let mut writes = Vec::new();
     let mut defs = Vec::new();
     let mut is_wire = Vec::new();
@@ -188,6 +210,8 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
     let mut offset = quote!(0usize);
     let mut slot = quote!(0usize);
     let mut has_slots = false;
+    // The index of each field's first payload offset (`from_payload`).
+    let mut source = quote!(0usize);
     for (k, f) in m.fields.iter().enumerate() {
         let code = field_code(m, f);
         let fi = &f.ident;
@@ -232,8 +256,11 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
         } else {
             quote!(present.sub(#slot_k, #nested))
         };
-        let read = read_expr(m, f, &offset_k, &present);
-        inits.push(match &f.absent {
+        let source_k = format_ident!("__R{k}");
+        let field_sources = &code.sources;
+        consts.push(quote!(const #source_k: usize = #source;));
+        source = quote!(#source_k + #field_sources);
+        let init = |read: TokenStream| match &f.absent {
             Absent::Required => quote!(#fi: #read),
             Absent::None => quote!(#fi: if present.get(#slot_k) {
                 ::core::option::Option::Some(#read)
@@ -247,7 +274,14 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 };
                 quote!(#fi: if present.get(#slot_k) { #read } else { #default })
             }
-        });
+        };
+        inits.push(init(read_expr(m, f, ReadFrom::Image(&offset_k), &present)));
+        direct_inits.push(init(read_expr(
+            m,
+            f,
+            ReadFrom::Payload(&quote!(#source_k)),
+            &present,
+        )));
         writes.push(match &f.absent {
             Absent::None => {
                 let w = write_stmt(m, f, &offset_k, &quote!(value));
@@ -377,10 +411,20 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 const IS_WIRE: bool = #is_wire;
                 const OPTIONAL: usize = #optional;
                 type Writability = #writability;
+                const SOURCES: usize = #source;
                 #[inline]
                 fn from_wire(wire: &[u8; #size], present: #typed::Present<'_>) -> Self {
                     let _ = present;
                     Self { #(#inits,)* }
+                }
+                #[inline]
+                fn from_payload(
+                    payload: &[u8],
+                    sources: &[u32],
+                    present: #typed::Present<'_>,
+                ) -> Self {
+                    let _ = (payload, sources, present);
+                    Self { #(#direct_inits,)* }
                 }
                 #[inline]
                 fn to_wire(&self) -> [u8; #size] {

@@ -36,6 +36,11 @@ impl ::core::default::Default for BatteryStatus {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R3: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R4: usize = __R3 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for BatteryStatus {
         type Wire = [u8; 24usize];
@@ -45,6 +50,7 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R4 + 0usize;
         #[inline]
         fn from_wire(
             wire: &[u8; 24usize],
@@ -64,6 +70,29 @@ const _: () = {
                 cell_count: ::ulog_core::typed::__private::read::<
                     u8,
                 >(wire, 16usize, ::ulog_core::typed::Present::ALL),
+                _padding0: [0u8; 7usize],
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                voltage_v: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
+                remaining: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
+                cell_count: ::ulog_core::typed::__private::read_source::<
+                    u8,
+                >(payload, sources, __R3, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 7usize],
             }
         }
@@ -183,6 +212,9 @@ impl ::core::default::Default for EscReport {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1 + <i32 as ::ulog_core::typed::WireField>::SOURCES;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for EscReport {
         type Wire = [u8; 16usize];
@@ -192,6 +224,7 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
         #[inline]
         fn from_wire(
             wire: &[u8; 16usize],
@@ -208,6 +241,25 @@ const _: () = {
                 esc_voltage: ::ulog_core::typed::__private::read::<
                     f32,
                 >(wire, 12usize, ::ulog_core::typed::Present::ALL),
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                esc_rpm: ::ulog_core::typed::__private::read_source::<
+                    i32,
+                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
+                esc_voltage: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
             }
         }
         #[inline]
@@ -309,6 +361,10 @@ impl ::core::default::Default for EscStatus {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R3: usize = __R2 + 0usize;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for EscStatus {
         type Wire = [u8; 48usize];
@@ -318,6 +374,8 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R3
+            + ::ulog_core::typed::__private::array_sources::<EscReport>(2usize);
         #[inline]
         fn from_wire(
             wire: &[u8; 48usize],
@@ -335,6 +393,29 @@ const _: () = {
                 esc: ::ulog_core::typed::__private::read_array(
                     wire,
                     16usize,
+                    ::ulog_core::typed::Present::ALL,
+                ),
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                esc_count: ::ulog_core::typed::__private::read_source::<
+                    u8,
+                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
+                _padding0: [0u8; 7usize],
+                esc: ::ulog_core::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R3,
                     ::ulog_core::typed::Present::ALL,
                 ),
             }
@@ -442,6 +523,10 @@ impl ::core::default::Default for VehicleAttitude {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1
+        + ::ulog_core::typed::__private::array_sources::<f32>(4usize);
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleAttitude {
         type Wire = [u8; 28usize];
@@ -451,6 +536,7 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R2 + 0usize;
         #[inline]
         fn from_wire(
             wire: &[u8; 28usize],
@@ -464,6 +550,26 @@ const _: () = {
                 q: ::ulog_core::typed::__private::read_array(
                     wire,
                     8usize,
+                    ::ulog_core::typed::Present::ALL,
+                ),
+                _padding0: [0u8; 4usize],
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                q: ::ulog_core::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R1,
                     ::ulog_core::typed::Present::ALL,
                 ),
                 _padding0: [0u8; 4usize],
@@ -575,6 +681,15 @@ impl ::core::default::Default for VehicleLocalPosition {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R3: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R4: usize = __R3 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R5: usize = __R4 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R6: usize = __R5 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R7: usize = __R6 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R8: usize = __R7 + <bool as ::ulog_core::typed::WireField>::SOURCES;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleLocalPosition {
         type Wire = [u8; 40usize];
@@ -584,6 +699,7 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R8 + 0usize;
         #[inline]
         fn from_wire(
             wire: &[u8; 40usize],
@@ -615,6 +731,41 @@ const _: () = {
                 xy_valid: ::ulog_core::typed::__private::read::<
                     bool,
                 >(wire, 32usize, ::ulog_core::typed::Present::ALL),
+                _padding0: [0u8; 7usize],
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                x: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
+                y: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
+                z: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R3, ::ulog_core::typed::Present::ALL),
+                vx: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R4, ::ulog_core::typed::Present::ALL),
+                vy: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R5, ::ulog_core::typed::Present::ALL),
+                vz: ::ulog_core::typed::__private::read_source::<
+                    f32,
+                >(payload, sources, __R6, ::ulog_core::typed::Present::ALL),
+                xy_valid: ::ulog_core::typed::__private::read_source::<
+                    bool,
+                >(payload, sources, __R7, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 7usize],
             }
         }

@@ -2,17 +2,23 @@
 const _: () = {
     const __O0: usize = 0usize;
     const __S0: usize = 0usize;
+    const __R0: usize = 0usize;
     const __O1: usize = __O0 + ::my_ulog::typed::__private::wire_size::<u64>();
     const __S1: usize = __S0 + 0usize + <u64 as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __R1: usize = __R0 + <u64 as ::my_ulog::typed::WireField>::SOURCES;
     const __O2: usize = __O1 + (4);
     const __S2: usize = __S1 + 0usize + 0usize;
+    const __R2: usize = __R1 + 0usize;
     const __O3: usize = __O2
         + (::my_ulog::typed::__private::wire_size::<EscReport>() * (8));
     const __S3: usize = __S2 + 0usize
         + <EscReport as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __R3: usize = __R2
+        + ::my_ulog::typed::__private::array_sources::<EscReport>(8);
     const __O4: usize = __O3 + ::my_ulog::typed::__private::wire_size::<CharArray<4>>();
     const __S4: usize = __S3 + 0usize
         + <CharArray<4> as ::my_ulog::typed::WireField>::OPTIONAL;
+    const __R4: usize = __R3 + <CharArray<4> as ::my_ulog::typed::WireField>::SOURCES;
     const __SIZE: usize = __O4 + (2);
     const _: () = {
         ::my_ulog::typed::__private::assert_field::<u64>();
@@ -43,6 +49,7 @@ const _: () = {
         > as ::my_ulog::typed::Writability>::And<
             <CharArray<4> as ::my_ulog::typed::WireField>::Writability,
         >;
+        const SOURCES: usize = __R4 + 1usize;
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],
@@ -78,6 +85,50 @@ const _: () = {
                 code: ::my_ulog::typed::__private::read_array(
                     wire,
                     __O4,
+                    ::my_ulog::typed::Present::ALL,
+                ),
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::my_ulog::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::my_ulog::typed::__private::read_source::<
+                    u64,
+                >(
+                    payload,
+                    sources,
+                    __R0,
+                    present.sub(__S0, <u64 as ::my_ulog::typed::WireField>::OPTIONAL),
+                ),
+                _padding0: [0u8; 4],
+                reports: ::my_ulog::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R2,
+                    present
+                        .sub(__S2, <EscReport as ::my_ulog::typed::WireField>::OPTIONAL),
+                ),
+                label: ::my_ulog::typed::__private::read_source::<
+                    CharArray<4>,
+                >(
+                    payload,
+                    sources,
+                    __R3,
+                    present
+                        .sub(
+                            __S3,
+                            <CharArray<4> as ::my_ulog::typed::WireField>::OPTIONAL,
+                        ),
+                ),
+                code: ::my_ulog::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R4,
                     ::my_ulog::typed::Present::ALL,
                 ),
             }

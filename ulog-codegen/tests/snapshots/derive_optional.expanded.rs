@@ -2,16 +2,22 @@
 const _: () = {
     const __O0: usize = 0usize;
     const __S0: usize = 0usize;
+    const __R0: usize = 0usize;
     const __O1: usize = __O0 + ::ulog_core::typed::__private::wire_size::<u64>();
     const __S1: usize = __S0 + 0usize + <u64 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
     const __O2: usize = __O1 + ::ulog_core::typed::__private::wire_size::<i32>();
     const __S2: usize = __S1 + 1usize + <i32 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R2: usize = __R1 + <i32 as ::ulog_core::typed::WireField>::SOURCES;
     const __O3: usize = __O2 + ::ulog_core::typed::__private::wire_size::<f64>();
     const __S3: usize = __S2 + 1usize + <f64 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R3: usize = __R2 + <f64 as ::ulog_core::typed::WireField>::SOURCES;
     const __O4: usize = __O3 + ::ulog_core::typed::__private::wire_size::<u8>();
     const __S4: usize = __S3 + 1usize + <u8 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R4: usize = __R3 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
     const __O5: usize = __O4 + ::ulog_core::typed::__private::wire_size::<f32>();
     const __S5: usize = __S4 + 1usize + <f32 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R5: usize = __R4 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
     const __SIZE: usize = __O5
         + (::ulog_core::typed::__private::wire_size::<Inner>() * (2));
     const _: () = {
@@ -42,6 +48,8 @@ const _: () = {
         const OPTIONAL: usize = __S5 + 1usize
             + <Inner as ::ulog_core::typed::WireField>::OPTIONAL;
         type Writability = ::ulog_core::typed::HasOptionFields;
+        const SOURCES: usize = __R5
+            + ::ulog_core::typed::__private::array_sources::<Inner>(2);
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],
@@ -125,6 +133,108 @@ const _: () = {
                         ::ulog_core::typed::__private::read_array(
                             wire,
                             __O5,
+                            present
+                                .sub(
+                                    __S5 + 1,
+                                    <Inner as ::ulog_core::typed::WireField>::OPTIONAL,
+                                ),
+                        ),
+                    )
+                } else {
+                    ::core::option::Option::None
+                },
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(
+                    payload,
+                    sources,
+                    __R0,
+                    present.sub(__S0, <u64 as ::ulog_core::typed::WireField>::OPTIONAL),
+                ),
+                latitude: if present.get(__S1) {
+                    ::core::option::Option::Some(
+                        ::ulog_core::typed::__private::read_source::<
+                            i32,
+                        >(
+                            payload,
+                            sources,
+                            __R1,
+                            present
+                                .sub(
+                                    __S1 + 1,
+                                    <i32 as ::ulog_core::typed::WireField>::OPTIONAL,
+                                ),
+                        ),
+                    )
+                } else {
+                    ::core::option::Option::None
+                },
+                latitude_deg: if present.get(__S2) {
+                    ::core::option::Option::Some(
+                        ::ulog_core::typed::__private::read_source::<
+                            f64,
+                        >(
+                            payload,
+                            sources,
+                            __R2,
+                            present
+                                .sub(
+                                    __S2 + 1,
+                                    <f64 as ::ulog_core::typed::WireField>::OPTIONAL,
+                                ),
+                        ),
+                    )
+                } else {
+                    ::core::option::Option::None
+                },
+                satellites_used: if present.get(__S3) {
+                    ::ulog_core::typed::__private::read_source::<
+                        u8,
+                    >(
+                        payload,
+                        sources,
+                        __R3,
+                        present
+                            .sub(
+                                __S3 + 1,
+                                <u8 as ::ulog_core::typed::WireField>::OPTIONAL,
+                            ),
+                    )
+                } else {
+                    ::core::default::Default::default()
+                },
+                eph: if present.get(__S4) {
+                    ::ulog_core::typed::__private::read_source::<
+                        f32,
+                    >(
+                        payload,
+                        sources,
+                        __R4,
+                        present
+                            .sub(
+                                __S4 + 1,
+                                <f32 as ::ulog_core::typed::WireField>::OPTIONAL,
+                            ),
+                    )
+                } else {
+                    99.0
+                },
+                nested: if present.get(__S5) {
+                    ::core::option::Option::Some(
+                        ::ulog_core::typed::__private::read_array_source(
+                            payload,
+                            sources,
+                            __R5,
                             present
                                 .sub(
                                     __S5 + 1,

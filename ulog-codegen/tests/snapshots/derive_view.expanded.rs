@@ -2,13 +2,17 @@
 const _: () = {
     const __O0: usize = 0usize;
     const __S0: usize = 0usize;
+    const __R0: usize = 0usize;
     const __O1: usize = __O0 + ::ulog_core::typed::__private::wire_size::<le::U64>();
     const __S1: usize = __S0 + 0usize
         + <le::U64 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R1: usize = __R0 + <le::U64 as ::ulog_core::typed::WireField>::SOURCES;
     const __O2: usize = __O1
         + (::ulog_core::typed::__private::wire_size::<le::F32>() * (4));
     const __S2: usize = __S1 + 0usize
         + <le::F32 as ::ulog_core::typed::WireField>::OPTIONAL;
+    const __R2: usize = __R1
+        + ::ulog_core::typed::__private::array_sources::<le::F32>(4);
     const __SIZE: usize = __O2 + ::ulog_core::typed::__private::wire_size::<u8>();
     const _: () = {
         ::ulog_core::typed::__private::assert_field::<le::U64>();
@@ -38,6 +42,7 @@ const _: () = {
         > as ::ulog_core::typed::Writability>::And<
             <u8 as ::ulog_core::typed::WireField>::Writability,
         >;
+        const SOURCES: usize = __R2 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],
@@ -64,6 +69,40 @@ const _: () = {
                 >(
                     wire,
                     __O2,
+                    present.sub(__S2, <u8 as ::ulog_core::typed::WireField>::OPTIONAL),
+                ),
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    le::U64,
+                >(
+                    payload,
+                    sources,
+                    __R0,
+                    present
+                        .sub(__S0, <le::U64 as ::ulog_core::typed::WireField>::OPTIONAL),
+                ),
+                q: ::ulog_core::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R1,
+                    present
+                        .sub(__S1, <le::F32 as ::ulog_core::typed::WireField>::OPTIONAL),
+                ),
+                reset: ::ulog_core::typed::__private::read_source::<
+                    u8,
+                >(
+                    payload,
+                    sources,
+                    __R2,
                     present.sub(__S2, <u8 as ::ulog_core::typed::WireField>::OPTIONAL),
                 ),
             }

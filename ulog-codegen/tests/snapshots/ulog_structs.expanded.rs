@@ -31,6 +31,15 @@ impl ::core::default::Default for VehicleAttitude {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
+    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R2: usize = __R1
+        + ::ulog_core::typed::__private::array_sources::<f32>(4usize);
+    const __R3: usize = __R2 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
+    const __R4: usize = __R3
+        + <::ulog_core::typed::CharArray<
+            3usize,
+        > as ::ulog_core::typed::WireField>::SOURCES;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for VehicleAttitude {
         type Wire = [u8; 32usize];
@@ -40,6 +49,7 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R4 + 0usize;
         #[inline]
         fn from_wire(
             wire: &[u8; 32usize],
@@ -61,6 +71,32 @@ const _: () = {
                 name: ::ulog_core::typed::__private::read::<
                     ::ulog_core::typed::CharArray<3usize>,
                 >(wire, 25usize, ::ulog_core::typed::Present::ALL),
+                _padding0: [0u8; 4usize],
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                timestamp: ::ulog_core::typed::__private::read_source::<
+                    u64,
+                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
+                q: ::ulog_core::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R1,
+                    ::ulog_core::typed::Present::ALL,
+                ),
+                r#type: ::ulog_core::typed::__private::read_source::<
+                    u8,
+                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
+                name: ::ulog_core::typed::__private::read_source::<
+                    ::ulog_core::typed::CharArray<3usize>,
+                >(payload, sources, __R3, ::ulog_core::typed::Present::ALL),
                 _padding0: [0u8; 4usize],
             }
         }
@@ -174,6 +210,7 @@ impl ::core::default::Default for Pair {
 }
 #[allow(non_snake_case, clippy::all)]
 const _: () = {
+    const __R0: usize = 0usize;
     #[automatically_derived]
     impl ::ulog_core::typed::WireField for Pair {
         type Wire = [u8; 64usize];
@@ -183,6 +220,8 @@ const _: () = {
         const IS_WIRE: bool = false;
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
+        const SOURCES: usize = __R0
+            + ::ulog_core::typed::__private::array_sources::<VehicleAttitude>(2usize);
         #[inline]
         fn from_wire(
             wire: &[u8; 64usize],
@@ -193,6 +232,22 @@ const _: () = {
                 both: ::ulog_core::typed::__private::read_array(
                     wire,
                     0usize,
+                    ::ulog_core::typed::Present::ALL,
+                ),
+            }
+        }
+        #[inline]
+        fn from_payload(
+            payload: &[u8],
+            sources: &[u32],
+            present: ::ulog_core::typed::Present<'_>,
+        ) -> Self {
+            let _ = (payload, sources, present);
+            Self {
+                both: ::ulog_core::typed::__private::read_array_source(
+                    payload,
+                    sources,
+                    __R0,
                     ::ulog_core::typed::Present::ALL,
                 ),
             }

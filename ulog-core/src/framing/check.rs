@@ -80,7 +80,40 @@ pub(crate) fn is_text_byte(b: u8) -> bool {
 /// and swallow the messages after it; elsewhere a key is read as written
 /// (`parse_key_as_written`: real logs have `char[11] Build Date`), as the reader
 /// reads it.
-fn plausible_key(key: &[u8], value_len: usize, resync: bool) -> bool {
+fn plausible_key(key: &[u8], value_len: usize, resync: bool, known: &KnownKeys) -> bool {
+    // Outside resynchronisation only the key counts, and logs repeat a few keys
+    // (parameter changes): one parse per key.
+    if !resync && known.contains(key) {
+        return true;
+    }
+    let ok = parse_plausible_key(key, value_len, resync);
+    if ok && !resync {
+        known.insert(key);
+    }
+    ok
+}
+
+/// The keys [`plausible_key`] accepted outside resynchronisation, up to a bound (a
+/// hostile log of endless distinct keys is then parsed key by key, as without it).
+#[derive(Debug, Default, Clone)]
+pub(crate) struct KnownKeys(std::cell::RefCell<std::collections::HashSet<Box<[u8]>>>);
+
+impl KnownKeys {
+    const MAX: usize = 4096;
+
+    fn contains(&self, key: &[u8]) -> bool {
+        self.0.borrow().contains(key)
+    }
+
+    fn insert(&self, key: &[u8]) {
+        let mut keys = self.0.borrow_mut();
+        if keys.len() < Self::MAX {
+            keys.insert(key.into());
+        }
+    }
+}
+
+fn parse_plausible_key(key: &[u8], value_len: usize, resync: bool) -> bool {
     let Ok(text) = std::str::from_utf8(key) else {
         return false;
     };
@@ -169,7 +202,7 @@ impl Framer {
                     return bad("key longer than the message");
                 }
                 let (key, value) = p[1..].split_at(p[0] as usize);
-                if content && !plausible_key(key, value.len(), resync) {
+                if content && !plausible_key(key, value.len(), resync, &self.known_keys) {
                     return Check::Bad(Bad::Implausible);
                 }
             }
@@ -178,7 +211,9 @@ impl Framer {
                     return bad("key longer than the message");
                 }
                 let (key, value) = p[2..].split_at(p[1] as usize);
-                if content && (!plausible_key(key, value.len(), resync) || (t == b'M' && p[0] > 1))
+                if content
+                    && (!plausible_key(key, value.len(), resync, &self.known_keys)
+                        || (t == b'M' && p[0] > 1))
                 {
                     return Check::Bad(Bad::Implausible);
                 }

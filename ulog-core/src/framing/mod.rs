@@ -91,6 +91,8 @@ pub(crate) struct Framer {
     pub in_definitions: bool,
     /// The error that stopped the read: every later step returns it again.
     failed: Option<ReadError>,
+    /// Keys of information and parameter messages found plausible before.
+    known_keys: check::KnownKeys,
 }
 
 /// How far ahead of the message being framed [`Framer::plain_data_run`] asks for the
@@ -126,6 +128,7 @@ impl Framer {
             defs: Definitions::new(),
             in_definitions: true,
             failed: None,
+            known_keys: check::KnownKeys::default(),
         }
     }
 

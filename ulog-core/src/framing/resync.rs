@@ -1,7 +1,8 @@
 //! Damage: a message that is not plausible is skipped by its own size when the
 //! messages after it frame cleanly; otherwise the reader looks forward for the next
-//! sync magic or the first header that starts a chain of plausible messages, and
-//! reports the stretch it skipped.
+//! sync magic or the first header that starts a chain of plausible messages (a short
+//! one will do where it ends at the end of the file or at zero fill), and reports the
+//! stretch it skipped.
 
 use crate::bytes::{u16_at, SYNC_MAGIC};
 use crate::finding::{Corruption, FindingKind};
@@ -23,6 +24,19 @@ pub(super) struct Resync {
 
 /// Messages that must frame cleanly after a place for it to count as real messages.
 const CHAIN_DEPTH: usize = 2;
+
+/// Where a chain of plausible messages stops.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ChainEnd {
+    /// Not yet: `depth + 1` messages framed.
+    Open,
+    /// At a message that is not plausible.
+    Broken,
+    /// At the end of the file or at an appended offset.
+    FileEnd,
+    /// At zero fill: a header of size 0 and type 0, three zero bytes.
+    ZeroFill,
+}
 
 /// Zero bytes that must follow a data message of the wrong size for it to be taken as
 /// a whole message followed by zero fill (rather than a corrupt size field): zero
@@ -208,13 +222,28 @@ impl Framer {
 
     /// Whether a place found while resynchronising starts real messages: a chain of three,
     /// or of two that end exactly at an appended offset or the end of the file (one
-    /// message that happens to end there could be the tail of the cut message itself).
+    /// message that happens to end there could be the tail of the cut message itself),
+    /// or at zero fill.
+    ///
+    /// Zero fill is where a writer's bytes stop, as the end of the file is: after a
+    /// power loss an SD card keeps good messages between blocks it never wrote, which
+    /// read as headers of size 0 and type 0, so an island of one or two messages
+    /// between two runs of zeros is common (pyulog, stepping through the zeros a byte
+    /// at a time, reads it). There a single data message is enough: its msg_id is
+    /// subscribed and its size one its format allows (chance bytes almost never pass
+    /// that), and the zero header is the one at its end. Any other single message
+    /// needs a second one, as at the end of the file: text that runs into zeros could
+    /// pass for a logged string or a key. The zeros are still skipped and reported as
+    /// a damaged stretch of their own.
     fn chain_valid_resync(&self, win: &[u8], base: u64, q: u64, eof: bool) -> Option<bool> {
         let depth = CHAIN_DEPTH;
         match self.chain_len(win, base, q, eof, depth, false)? {
             (n, _) if n > depth => Some(true),
-            (n, true) => Some(n >= 2),
-            _ => Some(false),
+            (n, ChainEnd::FileEnd) => Some(n >= 2),
+            (n, ChainEnd::ZeroFill) => {
+                Some(n >= 2 || (n == 1 && win[(q - base) as usize + 2] == b'D'))
+            }
+            (_, ChainEnd::Open | ChainEnd::Broken) => Some(false),
         }
     }
 
@@ -225,7 +254,9 @@ impl Framer {
     /// the wrong size must not turn the rest of the log into one damaged stretch.
     /// (Looking for a place to resynchronise stays strict: there the exact size is
     /// much of what tells a real header from chance bytes.)
-    /// Reaching the end counts after `at_end` messages or more.
+    /// Reaching the end counts after `at_end` messages or more; zero fill does not
+    /// count here, as the size that led to it is the one in doubt (a size field hit
+    /// by corruption can land on a few zero bytes inside a payload).
     fn chain_valid(
         &self,
         win: &[u8],
@@ -237,14 +268,13 @@ impl Framer {
     ) -> Option<bool> {
         match self.chain_len(win, base, q, eof, depth, true)? {
             (n, _) if n > depth => Some(true),
-            (n, reached_end) => Some(reached_end && n >= at_end),
+            (n, end) => Some(end == ChainEnd::FileEnd && n >= at_end),
         }
     }
 
-    /// How many plausible messages follow from `q` (up to `depth + 1`), and whether
-    /// they end at the end of the file or an appended offset; `any_size`: data
-    /// messages of a known subscription count whatever their size. `None`: more
-    /// bytes needed.
+    /// How many plausible messages follow from `q` (up to `depth + 1`), and where they
+    /// stop; `any_size`: data messages of a known subscription count whatever their
+    /// size. `None`: more bytes needed.
     fn chain_len(
         &self,
         win: &[u8],
@@ -253,16 +283,16 @@ impl Framer {
         eof: bool,
         depth: usize,
         any_size: bool,
-    ) -> Option<(usize, bool)> {
+    ) -> Option<(usize, ChainEnd)> {
         let mut q = q;
         let mut new_ids: Vec<u16> = Vec::new();
         let win_end = base + win.len() as u64;
         for n in 0..=depth {
             if eof && q == win_end {
-                return Some((n, true));
+                return Some((n, ChainEnd::FileEnd));
             }
             if self.appended.first() == Some(&q) {
-                return Some((n, true));
+                return Some((n, ChainEnd::FileEnd));
             }
             let check = match self.check(win, base, q, eof, true, &new_ids) {
                 Check::Bad(Bad::SizeMismatch(..)) if any_size => {
@@ -272,7 +302,11 @@ impl Framer {
             };
             match check {
                 Check::NeedMore => return None,
-                Check::Bad(_) => return Some((n, false)),
+                // A zero size is judged on the three header bytes, all in `win`.
+                Check::Bad(Bad::ZeroSize) if win[(q - base) as usize + 2] == 0 => {
+                    return Some((n, ChainEnd::ZeroFill))
+                }
+                Check::Bad(_) => return Some((n, ChainEnd::Broken)),
                 Check::Ok(size) => {
                     let rel = (q - base) as usize;
                     if win[rel + 2] == b'A' {
@@ -282,6 +316,107 @@ impl Framer {
                 }
             }
         }
-        Some((depth + 1, false))
+        Some((depth + 1, ChainEnd::Open))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::finding::{Corruption, FindingKind};
+    use crate::read::Messages;
+    use crate::stream::{Progress, PushReader};
+    use crate::testing::LogBuilder;
+    use crate::ULog;
+
+    fn row(v: u32) -> Vec<u8> {
+        [&(u64::from(v) * 100).to_le_bytes()[..], &v.to_le_bytes()].concat()
+    }
+
+    /// A power-loss log in small: data messages alone or in twos between runs of zeros
+    /// (blocks the SD card never wrote), a logged string alone and one with a data
+    /// message, then zeros to the end. Every data message is kept, the lone string is
+    /// not (a single message that is not data needs a second one before zero fill),
+    /// and every run of zeros is reported where it starts.
+    #[test]
+    fn messages_between_runs_of_zeros_are_kept_and_the_zeros_reported() {
+        let mut b = LogBuilder::new(1, 0);
+        b.flag_bits([0; 8], [0; 8], [0; 3]);
+        b.format("t:uint64_t timestamp;uint32_t v;");
+        b.subscribe(0, 0, "t");
+        let mut runs = Vec::new();
+        let mut zeros = |b: &mut LogBuilder, n: usize| {
+            runs.push(b.bytes().len() as u64);
+            b.garbage(&vec![0; n]);
+        };
+        for v in 0..4 {
+            b.data(0, &row(v));
+        }
+        zeros(&mut b, 600);
+        b.data(0, &row(4));
+        zeros(&mut b, 300);
+        b.data(0, &row(5)).data(0, &row(6));
+        zeros(&mut b, 4096);
+        b.log(b'6', 650, "alone");
+        let alone_end = b.bytes().len() as u64;
+        zeros(&mut b, 512);
+        b.log(b'6', 680, "with a row").data(0, &row(7));
+        zeros(&mut b, 64 * 1024);
+        let bytes = b.into_bytes();
+
+        let log = ULog::parse(&bytes).unwrap();
+        let t = log.topic("t", 0).unwrap();
+        let v = t.field("v").unwrap();
+        let kept: Vec<u32> = t
+            .payloads()
+            .map(|p| v.read(p).unwrap().as_i128().unwrap() as u32)
+            .collect();
+        assert_eq!(kept, (0..8).collect::<Vec<_>>(), "{:?}", log.findings());
+        let texts: Vec<String> = log
+            .logged_messages()
+            .iter()
+            .map(|l| l.text.to_string())
+            .collect();
+        assert_eq!(texts, ["with a row"]);
+
+        let found: Vec<_> = log
+            .findings()
+            .iter()
+            .map(|f| (f.kind.clone(), f.offset, f.len))
+            .collect();
+        let zero_fill = FindingKind::Corrupt(Corruption::ZeroFill);
+        let zero_size = FindingKind::Corrupt(Corruption::ZeroSize);
+        assert_eq!(
+            found,
+            [
+                (zero_fill.clone(), runs[0], 600),
+                (zero_fill.clone(), runs[1], 300),
+                // The zeros, the lone string and the zeros after it: one stretch.
+                (zero_size, runs[2], alone_end + 512 - runs[2]),
+                (zero_fill, runs[4], 64 * 1024),
+            ]
+        );
+
+        // The incremental reader takes the same decisions, in any chunks.
+        let mut whole = Messages::new(&bytes);
+        let all: Vec<_> = whole.by_ref().map(Result::unwrap).collect();
+        assert_eq!(whole.findings(), log.findings());
+        for chunk in [1, 7, 300, 4096] {
+            let mut inc = PushReader::new();
+            let mut i = 0;
+            let mut check = |inc: &mut PushReader| {
+                while inc.advance().unwrap() == Progress::Ready {
+                    assert_eq!(inc.current().unwrap(), all[i], "chunk {chunk}");
+                    i += 1;
+                }
+            };
+            for c in bytes.chunks(chunk) {
+                inc.push(c);
+                check(&mut inc);
+            }
+            inc.finish();
+            check(&mut inc);
+            assert_eq!(i, all.len(), "chunk {chunk}");
+            assert_eq!(inc.findings(), log.findings(), "chunk {chunk}");
+        }
     }
 }

@@ -136,7 +136,7 @@ const LARGE: u64 = 8 << 20;
 /// Reads up to `len` bytes of `file` into anonymous memory; `None` where it cannot be
 /// allocated so (the caller then reads into a `Vec`).
 #[cfg(feature = "mmap")]
-fn read_large(mut file: &std::fs::File, len: u64) -> std::io::Result<Option<Bytes>> {
+fn read_large(file: &std::fs::File, len: u64) -> std::io::Result<Option<Bytes>> {
     let Ok(len) = usize::try_from(len) else {
         return Ok(None);
     };
@@ -146,17 +146,76 @@ fn read_large(mut file: &std::fs::File, len: u64) -> std::io::Result<Option<Byte
     // Advice only: without huge pages the read is as fast as into a `Vec`.
     #[cfg(target_os = "linux")]
     let _ = memory.advise(memmap2::Advice::HugePage);
+    let filled = read_parts(file, &mut memory, PART)?;
+    Ok(Some(Bytes::Anonymous(memory, filled)))
+}
+
+/// The size of the parts a large file is read in on several threads: at least this,
+/// so that a thread's start costs little beside its read.
+#[cfg(feature = "mmap")]
+const PART: usize = 32 << 20;
+
+/// Reads `file` from its start into `memory`, in parts of at least `part` bytes on up
+/// to one thread per core: the copy, and the kernel's zeroing of the fresh pages,
+/// split between them (bench/README.md has what it saves). Returns the length of the
+/// prefix read: all of `memory`, or less where the file shrank meanwhile.
+#[cfg(feature = "mmap")]
+fn read_parts(file: &std::fs::File, memory: &mut [u8], part: usize) -> std::io::Result<usize> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let count = (memory.len() / part.max(1)).clamp(1, threads);
+    // Parts that start on a huge-page boundary: no page is faulted by two threads.
+    let size = memory.len().div_ceil(count).next_multiple_of(2 << 20);
+    let len = memory.len();
+    let parts: Vec<std::sync::Mutex<Option<&mut [u8]>>> = memory
+        .chunks_mut(size)
+        .map(|c| std::sync::Mutex::new(Some(c)))
+        .collect();
+    let costs = vec![1u64; parts.len()];
+    let read = crate::parallel::largest_first(&costs, count, |i| {
+        let part = parts[i].lock().unwrap_or_else(|p| p.into_inner()).take();
+        read_at(file, part.unwrap_or_default(), (i * size) as u64)
+    });
+    let (mut filled, mut ended) = (0, false);
+    for (i, r) in read.into_iter().enumerate() {
+        match r {
+            Some(Err(e)) => return Err(e),
+            Some(Ok(n)) if !ended => {
+                filled += n;
+                // A part the file no longer reaches: the snapshot ends there.
+                ended = n < size.min(len - i * size);
+            }
+            // Parts after the end, or not read because another failed (its error is
+            // the result).
+            _ => {}
+        }
+    }
+    Ok(filled)
+}
+
+/// Fills `buf` from byte `at` of `file`; returns how much was read (less at the end of
+/// the file).
+#[cfg(feature = "mmap")]
+fn read_at(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<usize> {
     let mut filled = 0;
-    while filled < len {
-        match std::io::Read::read(&mut file, &mut memory[filled..]) {
-            // The file shrank since it was opened: the snapshot is what it held.
+    while filled < buf.len() {
+        match read_once(file, &mut buf[filled..], at + filled as u64) {
             Ok(0) => break,
             Ok(n) => filled += n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
             Err(e) => return Err(e),
         }
     }
-    Ok(Some(Bytes::Anonymous(memory, filled)))
+    Ok(filled)
+}
+
+#[cfg(all(feature = "mmap", unix))]
+fn read_once(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<usize> {
+    std::os::unix::fs::FileExt::read_at(file, buf, at)
+}
+
+#[cfg(all(feature = "mmap", windows))]
+fn read_once(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<usize> {
+    std::os::windows::fs::FileExt::seek_read(file, buf, at)
 }
 
 impl core::fmt::Debug for LogFile {
@@ -192,6 +251,27 @@ mod tests {
             assert!(parsed.topic("vehicle_attitude", 0).is_ok(), "{name}");
         }
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A file read in parts on several threads: the same bytes, in order, as long as
+    /// the file; a buffer longer than the file (it shrank after it was measured) holds
+    /// the file and says how much of it.
+    #[cfg(feature = "mmap")]
+    #[test]
+    fn parts_read_the_file_in_order() {
+        let path = std::env::temp_dir().join(format!("ulog-parts-{}", std::process::id()));
+        let bytes: Vec<u8> = (0..(5u32 << 20) + 12_345)
+            .map(|i| (i % 251) as u8)
+            .collect();
+        std::fs::write(&path, &bytes).unwrap();
+        let file = std::fs::File::open(&path).unwrap();
+        for extra in [0, 3 << 20] {
+            let mut memory = vec![0u8; bytes.len() + extra];
+            let n = read_parts(&file, &mut memory, 1 << 20).unwrap();
+            assert_eq!(n, bytes.len(), "{extra} bytes more than the file");
+            assert!(memory[..n] == bytes[..], "{extra} bytes more than the file");
+        }
+        std::fs::remove_file(&path).ok();
     }
 
     /// A pipe has no length: it is read to its end.

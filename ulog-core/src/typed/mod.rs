@@ -62,7 +62,8 @@ pub use zerocopy::little_endian as le;
 #[doc(hidden)]
 pub mod __private {
     pub use super::wire::{
-        read, read_array, visit_array, visit_chars, visit_field, wire_size, write, write_array,
+        array_sources, read, read_array, read_array_source, read_source, visit_array, visit_chars,
+        visit_field, wire_size, write, write_array,
     };
     pub use crate::value::Value;
     pub use std::sync::OnceLock;

@@ -1,22 +1,22 @@
 //! `Plan`: a log's format checked against a binding once, then a decode per payload.
 //!
 //! Validation walks the binding's fields, finds each in the log's layout by name or
-//! alias, and records one copy (log offset → binding offset, length) per field;
-//! adjacent copies are merged. When every field lies where the log has it, the plan
-//! is [`PlanKind::Exact`] and a payload's first bytes *are* the binding's wire image;
-//! otherwise it is [`PlanKind::Mapped`] and decoding runs the short copy list. No name
-//! is looked up after validation. This is the one rule every typed reader uses.
+//! alias, and records where each lies in the log's payload. When every field lies
+//! where the log has it, the plan is [`PlanKind::Exact`] and a payload's first bytes
+//! *are* the binding's wire image; otherwise it is [`PlanKind::Mapped`] and each field
+//! is read from its own offset (`WireField::from_payload`). No name is looked up after
+//! validation. This is the one rule every typed reader uses.
 
 use core::fmt;
 use core::marker::PhantomData;
 
-use ulog_format::{Layout, LayoutType};
+use ulog_format::{Layout, LayoutField, LayoutType};
 use zerocopy::{FromBytes, FromZeros, IntoBytes};
 
 use super::error::{DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch};
 use super::message::ULogMessage;
-use super::schema::{Absent, FieldKind, Schema};
-use super::wire::{Present, WireField};
+use super::schema::{Absent, FieldDef, FieldKind, Schema};
+use super::wire::{Present, WireField, NOWHERE};
 use crate::audited::WireImage;
 
 /// How a plan decodes.
@@ -28,7 +28,7 @@ pub enum PlanKind {
     /// ([`TypedRows::views`](crate::TypedRows::views)).
     Exact,
     /// Fields lie elsewhere in the log's payload, or the log lacks optional ones:
-    /// each is copied from its offset.
+    /// each is read from its offset.
     Mapped,
 }
 
@@ -44,6 +44,10 @@ struct CopyOp {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct RawPlan {
     kind: PlanKind,
+    /// Where each field of the binding is in the log's payload, for
+    /// [`WireField::from_payload`]; empty where the binding takes other offsets than
+    /// its schema says (a hand-written `WireField`), which is decoded from `copies`.
+    sources: Box<[u32]>,
     copies: Box<[CopyOp]>,
     /// The log's full payload size, and its size without trailing padding.
     size: usize,
@@ -59,6 +63,7 @@ pub(crate) struct RawPlan {
 
 /// What the walk over a binding's fields collects.
 struct Walk {
+    sources: Vec<u32>,
     copies: Vec<CopyOp>,
     differences: Vec<Difference>,
     present: Vec<bool>,
@@ -69,6 +74,7 @@ impl RawPlan {
     pub(crate) fn new<T: ULogMessage>(file: &Layout) -> Result<RawPlan, Mismatch> {
         let schema = T::schema();
         let mut walk = Walk {
+            sources: Vec::new(),
             copies: Vec::new(),
             differences: Vec::new(),
             present: Vec::new(),
@@ -104,7 +110,13 @@ impl RawPlan {
             }
         }
         let all_present = walk.present.iter().all(|&p| p);
+        let sources = if walk.sources.len() == T::SOURCES {
+            walk.sources.into_boxed_slice()
+        } else {
+            Box::new([])
+        };
         Ok(RawPlan {
+            sources,
             kind: if walk.why.is_none() {
                 PlanKind::Exact
             } else {
@@ -155,6 +167,9 @@ impl RawPlan {
                     Err(_) => Err(self.length_error(len)),
                 };
             }
+        }
+        if !self.sources.is_empty() || T::SOURCES == 0 {
+            return Ok(T::from_payload(payload, &self.sources, self.present()));
         }
         let mut wire = T::Wire::new_zeroed();
         let image = wire.as_mut_bytes();
@@ -266,6 +281,8 @@ fn map_fields(
             .find_map(|name| file.field(name).filter(|f| !f.is_padding()));
         let optional = def.absent() != Absent::Required;
         let Some(theirs) = found else {
+            walk.sources
+                .extend(core::iter::repeat(NOWHERE).take(field_sources(def, own)));
             if optional {
                 walk.present.push(false);
                 walk.present
@@ -303,6 +320,7 @@ fn map_fields(
         }
         match (&own.ty, &theirs.ty, def.kind()) {
             (LayoutType::Basic(a), LayoutType::Basic(b), _) if a == b => {
+                walk.sources.push(from as u32);
                 if lengths_agree {
                     walk.copies.push(CopyOp {
                         src: from,
@@ -319,6 +337,7 @@ fn map_fields(
                     None => format!("{path}."),
                 };
                 let mut inner = Walk {
+                    sources: Vec::new(),
                     copies: Vec::new(),
                     differences: Vec::new(),
                     present: Vec::new(),
@@ -329,6 +348,16 @@ fn map_fields(
                 walk.present.append(&mut inner.present);
                 if let Some(why) = inner.why {
                     walk.why.get_or_insert(why);
+                }
+                for i in 0..own.array_len.unwrap_or(1) {
+                    let base = (from + i * other.size()) as u32;
+                    walk.sources.extend(inner.sources.iter().map(|&s| {
+                        if s == NOWHERE {
+                            s
+                        } else {
+                            base + s
+                        }
+                    }));
                 }
                 if lengths_agree {
                     for i in 0..own.array_len.unwrap_or(1) {
@@ -360,6 +389,26 @@ fn map_fields(
             }),
         }
     }
+}
+
+/// How many payload offsets field `def` (laid out as `own` in the binding) takes: as
+/// `WireField::SOURCES` counts them.
+fn field_sources(def: &FieldDef, own: &LayoutField) -> usize {
+    match def.kind() {
+        FieldKind::Basic(_) => 1,
+        FieldKind::Nested(nested) => own.array_len.unwrap_or(1) * schema_sources(nested()),
+    }
+}
+
+/// How many payload offsets a binding takes: its fields', padding none.
+fn schema_sources(schema: &Schema) -> usize {
+    schema
+        .fields()
+        .iter()
+        .zip(schema.layout().fields())
+        .filter(|(_, own)| !own.is_padding())
+        .map(|(def, own)| field_sources(def, own))
+        .sum()
 }
 
 /// A log's format checked against binding `T`, once per subscription: decodes each
@@ -441,11 +490,6 @@ impl<T: ULogMessage> Plan<T> {
         self.raw.why.as_deref()
     }
 
-    /// The number of byte ranges a mapped decode copies.
-    pub fn copy_count(&self) -> usize {
-        self.raw.copies.len()
-    }
-
     /// Whether each optional field of `T` (in field order, nested bindings' after the
     /// field that holds them) is in the log.
     pub fn present(&self) -> Vec<bool> {
@@ -472,5 +516,71 @@ impl<T: ULogMessage> Plan<T> {
         T: WireImage,
     {
         self.raw.view::<T>(payload)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::OnceLock;
+
+    use ulog_format::{BasicType, Format};
+
+    use super::*;
+    use crate::typed::Writable;
+
+    /// A binding implemented by hand, not derived: it keeps `WireField`'s default of
+    /// one payload offset, where its schema has two fields.
+    #[derive(Debug, PartialEq)]
+    struct Pair {
+        a: u32,
+        b: u16,
+    }
+
+    impl WireField for Pair {
+        type Wire = [u8; 6];
+        type Writability = Writable;
+        const KIND: FieldKind = FieldKind::Nested(<Pair as ULogMessage>::schema);
+        fn from_wire(w: &[u8; 6], _: Present<'_>) -> Pair {
+            Pair {
+                a: u32::from_le_bytes([w[0], w[1], w[2], w[3]]),
+                b: u16::from_le_bytes([w[4], w[5]]),
+            }
+        }
+        fn to_wire(&self) -> [u8; 6] {
+            let mut w = [0; 6];
+            w[..4].copy_from_slice(&self.a.to_le_bytes());
+            w[4..].copy_from_slice(&self.b.to_le_bytes());
+            w
+        }
+    }
+
+    impl ULogMessage for Pair {
+        const NAME: &'static str = "pair";
+        fn schema() -> &'static Schema {
+            static FIELDS: [FieldDef; 2] = [
+                FieldDef::new("a", &[], FieldKind::Basic(BasicType::UInt32), None),
+                FieldDef::new("b", &[], FieldKind::Basic(BasicType::UInt16), None),
+            ];
+            static SCHEMA: OnceLock<Schema> = OnceLock::new();
+            SCHEMA.get_or_init(|| Schema::build("pair", &FIELDS))
+        }
+    }
+
+    /// A hand-written binding whose offsets the plan cannot hand to `from_payload`
+    /// still decodes a log that lays it out otherwise: through a wire image of it
+    /// (derived bindings, which read from the payload, are decoded by every typed
+    /// test).
+    #[test]
+    fn a_hand_written_binding_decodes_through_its_wire_image() {
+        let format = Format::parse("pair:uint16_t b;uint8_t x;uint32_t a;").unwrap();
+        let layout = Layout::resolve("pair", &[format][..]).unwrap();
+        let plan = Plan::<Pair>::new(&layout).unwrap();
+        assert_eq!(plan.kind(), PlanKind::Mapped);
+        assert!(
+            plan.raw.sources.is_empty(),
+            "no offsets for a hand-written binding"
+        );
+        let payload = [7, 0, 0xee, 1, 2, 0, 0];
+        assert_eq!(plan.decode(&payload).unwrap(), Pair { a: 0x201, b: 7 });
     }
 }

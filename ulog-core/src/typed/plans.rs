@@ -24,7 +24,17 @@ enum Slot {
 /// at a subscription's first record, for both.
 struct Entry {
     slot: Slot,
-    unwrap: Option<Unwrapper>,
+    unwrap: Unwrapper,
+}
+
+impl Slot {
+    #[inline(always)]
+    fn plan(&self) -> Option<&TopicPlan> {
+        match self {
+            Slot::Planned(plan) => Some(plan),
+            _ => None,
+        }
+    }
 }
 
 /// The plans of `E`, by subscription index.
@@ -41,37 +51,30 @@ impl<E: ULogTopics> Plans<E> {
         }
     }
 
-    /// Plans `topic` at its first record: a format that does not fit its variant, or
-    /// cannot be laid out, is the error of that first call, and the topic is not read.
+    /// The plan of `topic`'s records (`None` where they are not read) and the
+    /// unwrapper of its timestamps, in one lookup: the hot path of every record. At
+    /// a subscription's first record it is planned; a format that does not fit its
+    /// variant, or cannot be laid out, is the error of that first call, and the topic
+    /// is not read.
     #[inline]
-    pub fn meet(&mut self, topic: &Subscription) -> Result<(), TypedError> {
-        match self.entries.get(topic.index()) {
+    pub fn next(
+        &mut self,
+        topic: &Subscription,
+    ) -> (Result<Option<&TopicPlan>, TypedError>, &mut Unwrapper) {
+        let i = topic.index();
+        if !matches!(
+            self.entries.get(i),
             Some(Entry {
                 slot: Slot::Planned(_) | Slot::Unread,
                 ..
-            }) => Ok(()),
-            _ => self.plan(topic),
+            })
+        ) {
+            let planned = self.plan(topic);
+            let entry = &mut self.entries[i];
+            return (planned.map(|()| entry.slot.plan()), &mut entry.unwrap);
         }
-    }
-
-    /// The plan that decodes the records of subscription `i` (met before), or `None`
-    /// where they are not read.
-    #[inline]
-    pub fn get(&self, i: usize) -> Option<&TopicPlan> {
-        match &self.entries[i].slot {
-            Slot::Planned(plan) => Some(plan),
-            _ => None,
-        }
-    }
-
-    /// The timestamp of `payload`, the next record of `topic` (met before) in file
-    /// order, narrow timestamps unwrapped.
-    #[inline]
-    pub fn time(&mut self, topic: &Subscription, payload: &[u8]) -> Option<u64> {
-        self.entries[topic.index()]
-            .unwrap
-            .get_or_insert_with(|| Unwrapper::new(topic.timestamp_field()))
-            .push(payload)
+        let entry = &mut self.entries[i];
+        (Ok(entry.slot.plan()), &mut entry.unwrap)
     }
 
     #[cold]
@@ -80,10 +83,13 @@ impl<E: ULogTopics> Plans<E> {
         if i >= self.entries.len() {
             self.entries.resize_with(i + 1, || Entry {
                 slot: Slot::Unplanned,
-                unwrap: None,
+                unwrap: Unwrapper::new(None),
             });
         }
-        self.entries[i].slot = Slot::Unread;
+        self.entries[i] = Entry {
+            slot: Slot::Unread,
+            unwrap: Unwrapper::new(topic.timestamp_field()),
+        };
         let Some(variant) = E::variant_of(topic.name()) else {
             return Ok(());
         };

@@ -1,6 +1,7 @@
 //! [`scan_topics`]: several topics of a log decoded into a [`ULogTopics`] enum in one
 //! pass, in file order or by timestamp.
 
+use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
@@ -92,8 +93,7 @@ where
         ScanOrder::File => {
             drive(source.into(), options.read_ahead, &mut |r| {
                 // Each subscription's timestamps, unwrapped as its records come.
-                let time = |plans: &mut Plans<E>| plans.time(r.topic, r.payload);
-                hand(&mut plans, raw_others, &mut f, &r, time)
+                hand(&mut plans, raw_others, &mut f, &r, |u| u.push(r.payload))
             })
         }
         ScanOrder::Timestamp => {
@@ -101,7 +101,7 @@ where
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
             time_ordered(source.into(), &mut |r, t| {
-                hand(&mut plans, raw_others, f, &r, |_: &mut Plans<E>| t)
+                hand(&mut plans, raw_others, f, &r, |_| t)
             })
         }
     }
@@ -118,20 +118,21 @@ fn hand<E, F, R>(
     raw_others: bool,
     f: &mut F,
     r: &DataRecord<'_>,
-    time: impl FnOnce(&mut Plans<E>) -> Option<u64>,
+    time: impl FnOnce(&mut Unwrapper) -> Option<u64>,
 ) -> Hand
 where
     E: ULogTopics,
     F: Handler<E, R> + ?Sized,
     R: ScanFlow,
 {
-    let met = plans.meet(r.topic);
-    let timestamp = time(plans);
+    let (plan, unwrap) = plans.next(r.topic);
+    let timestamp = time(unwrap);
     // The first record of a topic that does not fit goes the cold way.
-    if let Err(e) = met {
-        return unfit(e, r, timestamp, raw_others, f);
-    }
-    let item = match plans.get(r.topic.index()) {
+    let plan = match plan {
+        Ok(plan) => plan,
+        Err(e) => return unfit(e, r, timestamp, raw_others, f),
+    };
+    let item = match plan {
         Some(plan) => match E::decode(plan, r.payload) {
             Ok(message) => Ok(record(r, timestamp, Some(message))),
             Err(e) => Err(TypedError::decode(r.topic, r.offset, e)),

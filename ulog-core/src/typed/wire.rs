@@ -3,12 +3,13 @@
 //! Every field of a binding has a *wire* image: a type of alignment 1 whose bytes are
 //! exactly the little-endian ULog bytes of the field (`zerocopy`'s
 //! `little_endian::U32` for a `u32`, `u8` for a `bool`, a byte array of the binding's
-//! size for a binding). A payload (or a copy of it laid out as the binding) is read
-//! field by field from such an image at offsets fixed when the binding is compiled.
+//! size for a binding). A payload laid out as the binding is read field by field from
+//! such an image at offsets fixed when the binding is compiled; one laid out
+//! otherwise, field by field from the offsets its plan found (`from_payload`).
 
 use ulog_format::BasicType;
 use zerocopy::little_endian as le;
-use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
+use zerocopy::{FromBytes, FromZeros, Immutable, IntoBytes, KnownLayout, Unaligned};
 
 use super::chars::{ByteBool, CharArray};
 use super::schema::FieldKind;
@@ -82,8 +83,29 @@ pub trait WireField: Sized {
     /// writer takes only `Writable` bindings, so that writing one with `Option` fields
     /// is a type error.
     type Writability: Writability;
+    /// How many payload offsets [`from_payload`](Self::from_payload) takes: one for
+    /// every type but bindings, whose fields each take their own (generated code).
+    #[doc(hidden)]
+    const SOURCES: usize = 1;
     /// The value of a wire image, its optional fields as `present` says.
     fn from_wire(wire: &Self::Wire, present: Present<'_>) -> Self;
+    /// The value read straight from a log's payload, where `sources` says each part
+    /// of it is: for a binding, one offset per field in declaration order (a nested
+    /// binding's own offsets in its place; padding has none), [`NOWHERE`] for a
+    /// field the log lacks; for other types, the offset of the whole value.
+    ///
+    /// A plan whose log lays fields out otherwise than the binding decodes through
+    /// this, rather than copying the fields into a wire image first: loads right
+    /// after the stores that built the image wait for them (generated code).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn from_payload(payload: &[u8], sources: &[u32], present: Present<'_>) -> Self {
+        read_from::<Self>(
+            payload,
+            sources.first().copied().unwrap_or(NOWHERE),
+            present,
+        )
+    }
     /// The wire image of a value (absent optional fields as zeros).
     fn to_wire(&self) -> Self::Wire;
     /// Calls `f` with `path` and the value of each leaf of `self`: the value itself
@@ -237,6 +259,70 @@ impl<const N: usize> WireField for CharArray<N> {
 /// The size of `T`'s wire image.
 pub const fn wire_size<T: WireField>() -> usize {
     core::mem::size_of::<T::Wire>()
+}
+
+/// The payload offset of a field the log lacks: read as zeros (only optional fields,
+/// which are then not read, have it).
+pub const NOWHERE: u32 = u32::MAX;
+
+/// The `T` at byte `at` of a payload; zeros where the payload does not hold it (see
+/// [`NOWHERE`]).
+#[inline(always)]
+fn read_from<T: WireField>(payload: &[u8], at: u32, present: Present<'_>) -> T {
+    match payload
+        .get(at as usize..)
+        .and_then(|p| T::Wire::ref_from_prefix(p).ok())
+    {
+        Some((wire, _)) => T::from_wire(wire, present),
+        None => T::from_wire(&T::Wire::new_zeroed(), present),
+    }
+}
+
+/// How many payload offsets a `[T; N]` field takes: one for basic types, whose
+/// elements follow each other in the log as in the binding, else one set per element
+/// (generated code).
+pub const fn array_sources<T: WireField>(n: usize) -> usize {
+    match T::KIND {
+        FieldKind::Basic(_) => 1,
+        FieldKind::Nested(_) => n * T::SOURCES,
+    }
+}
+
+/// Reads the `T` whose offsets start at `sources[k]` from a payload (generated code).
+#[inline(always)]
+pub fn read_source<T: WireField>(
+    payload: &[u8],
+    sources: &[u32],
+    k: usize,
+    present: Present<'_>,
+) -> T {
+    T::from_payload(payload, sources.get(k..).unwrap_or(&[]), present)
+}
+
+/// Reads the `[T; N]` whose offsets start at `sources[k]` from a payload (generated
+/// code): basic elements at once from one offset, bindings each from their own.
+#[inline(always)]
+pub fn read_array_source<T: WireField, const N: usize>(
+    payload: &[u8],
+    sources: &[u32],
+    k: usize,
+    present: Present<'_>,
+) -> [T; N] {
+    match T::KIND {
+        FieldKind::Basic(_) => {
+            let at = sources.get(k).copied().unwrap_or(NOWHERE);
+            match payload
+                .get(at as usize..)
+                .and_then(|p| <[T::Wire; N]>::ref_from_prefix(p).ok())
+            {
+                Some((wire, _)) => core::array::from_fn(|i| T::from_wire(&wire[i], present)),
+                None => core::array::from_fn(|_| T::from_wire(&T::Wire::new_zeroed(), present)),
+            }
+        }
+        FieldKind::Nested(_) => core::array::from_fn(|i| {
+            read_source::<T>(payload, sources, k + i * T::SOURCES, present)
+        }),
+    }
 }
 
 /// Reads the `T` at `offset` of a binding's wire image (generated code).
