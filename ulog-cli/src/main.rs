@@ -2,6 +2,9 @@
 //! `ulog2csv`) with output a pyulog user can diff against, plus what this reader finds
 //! in damaged logs (`check`, `dump`), Rust bindings (`codegen`) and time-series plots.
 
+// The one exception, with its safety argument: Ryu writing into a buffer (numfmt.rs).
+#![deny(unsafe_code)]
+
 mod check;
 mod codegen;
 mod csv;

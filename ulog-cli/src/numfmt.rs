@@ -48,6 +48,7 @@ pub fn format_numpy_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
 
 /// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
 #[inline]
+#[allow(unsafe_code)]
 fn ryu_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
     const { assert!(NUM_LEN >= 16) };
     // Straight into `out`: through Ryu's own buffer, the copy out of it waited on
@@ -59,6 +60,7 @@ fn ryu_f32(v: f32, out: &mut [u8; NUM_LEN]) -> usize {
 
 /// Writes Ryu's text of a finite `v` at the start of `out`; returns its length.
 #[inline]
+#[allow(unsafe_code)]
 fn ryu_f64(v: f64, out: &mut [u8; NUM_LEN]) -> usize {
     const { assert!(NUM_LEN >= 24) };
     // Straight into `out`: through Ryu's own buffer, the copy out of it waited on

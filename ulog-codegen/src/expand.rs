@@ -18,8 +18,10 @@ struct FieldCode {
     size: TokenStream,
     /// The presence slots of a nested binding inside it.
     nested_slots: TokenStream,
-    /// How many payload offsets it takes (`WireField::SOURCES`).
+    /// How many payload offsets it takes, and whether it reads from them
+    /// (`WireField::SOURCES`, `WireField::DIRECT`).
     sources: TokenStream,
+    direct: TokenStream,
     /// Its `FieldKind` and array length.
     kind: TokenStream,
     count: TokenStream,
@@ -41,6 +43,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
             size: quote!(#private::wire_size::<#ty>()),
             nested_slots: quote!(<#ty as #wf>::OPTIONAL),
             sources: quote!(<#ty as #wf>::SOURCES),
+            direct: quote!(<#ty as #wf>::DIRECT),
             kind: quote!(<#ty as #wf>::KIND),
             count: quote!(<#ty as #wf>::COUNT),
             is_wire: quote!(<#ty as #wf>::IS_WIRE),
@@ -51,6 +54,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
             size: quote!((#private::wire_size::<#elem>() * (#len))),
             nested_slots: quote!(<#elem as #wf>::OPTIONAL),
             sources: quote!(#private::array_sources::<#elem>(#len)),
+            direct: quote!(<#elem as #wf>::DIRECT),
             kind: quote!(<#elem as #wf>::KIND),
             count: quote!(::core::option::Option::Some(#len)),
             is_wire: quote!(<#elem as #wf>::IS_WIRE),
@@ -64,6 +68,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
             },
             nested_slots: quote!(0usize),
             sources: quote!(1usize),
+            direct: quote!(true),
             kind: quote!(#typed::FieldKind::Basic(#private::BasicType::Char)),
             count: match len {
                 Some(n) => quote!(::core::option::Option::Some(#n)),
@@ -81,6 +86,7 @@ fn field_code(m: &Message, f: &MessageField) -> FieldCode {
                 size: quote!((#bytes)),
                 nested_slots: quote!(0usize),
                 sources: quote!(0usize),
+                direct: quote!(true),
                 kind: quote!(#typed::FieldKind::Basic(#private::BasicType::#variant)),
                 count: match count {
                     Some(c) => quote!(::core::option::Option::Some(#c)),
@@ -210,8 +216,10 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
     let mut offset = quote!(0usize);
     let mut slot = quote!(0usize);
     let mut has_slots = false;
-    // The index of each field's first payload offset (`from_payload`).
+    // The index of each field's first payload offset (`from_payload`), and whether
+    // every field reads from its offsets.
     let mut source = quote!(0usize);
+    let mut direct = Vec::new();
     for (k, f) in m.fields.iter().enumerate() {
         let code = field_code(m, f);
         let fi = &f.ident;
@@ -258,6 +266,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
         };
         let source_k = format_ident!("__R{k}");
         let field_sources = &code.sources;
+        direct.push(code.direct.clone());
         consts.push(quote!(const #source_k: usize = #source;));
         source = quote!(#source_k + #field_sources);
         let init = |read: TokenStream| match &f.absent {
@@ -412,6 +421,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 const OPTIONAL: usize = #optional;
                 type Writability = #writability;
                 const SOURCES: usize = #source;
+                const DIRECT: bool = true #(&& #direct)*;
                 #[inline]
                 fn from_wire(wire: &[u8; #size], present: #typed::Present<'_>) -> Self {
                     let _ = present;

@@ -51,6 +51,10 @@ const _: () = {
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R4 + 0usize;
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <u8 as ::ulog_core::typed::WireField>::DIRECT && true;
         #[inline]
         fn from_wire(
             wire: &[u8; 24usize],
@@ -225,6 +229,9 @@ const _: () = {
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <i32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT;
         #[inline]
         fn from_wire(
             wire: &[u8; 16usize],
@@ -376,6 +383,9 @@ const _: () = {
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R3
             + ::ulog_core::typed::__private::array_sources::<EscReport>(2usize);
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <u8 as ::ulog_core::typed::WireField>::DIRECT && true
+            && <EscReport as ::ulog_core::typed::WireField>::DIRECT;
         #[inline]
         fn from_wire(
             wire: &[u8; 48usize],
@@ -537,6 +547,8 @@ const _: () = {
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R2 + 0usize;
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT && true;
         #[inline]
         fn from_wire(
             wire: &[u8; 28usize],
@@ -700,6 +712,14 @@ const _: () = {
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R8 + 0usize;
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <bool as ::ulog_core::typed::WireField>::DIRECT && true;
         #[inline]
         fn from_wire(
             wire: &[u8; 40usize],

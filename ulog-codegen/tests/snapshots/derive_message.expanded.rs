@@ -50,6 +50,9 @@ const _: () = {
             <CharArray<4> as ::my_ulog::typed::WireField>::Writability,
         >;
         const SOURCES: usize = __R4 + 1usize;
+        const DIRECT: bool = true && <u64 as ::my_ulog::typed::WireField>::DIRECT && true
+            && <EscReport as ::my_ulog::typed::WireField>::DIRECT
+            && <CharArray<4> as ::my_ulog::typed::WireField>::DIRECT && true;
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],

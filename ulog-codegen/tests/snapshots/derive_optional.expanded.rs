@@ -50,6 +50,12 @@ const _: () = {
         type Writability = ::ulog_core::typed::HasOptionFields;
         const SOURCES: usize = __R5
             + ::ulog_core::typed::__private::array_sources::<Inner>(2);
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <i32 as ::ulog_core::typed::WireField>::DIRECT
+            && <f64 as ::ulog_core::typed::WireField>::DIRECT
+            && <u8 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <Inner as ::ulog_core::typed::WireField>::DIRECT;
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],

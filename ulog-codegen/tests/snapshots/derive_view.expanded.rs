@@ -43,6 +43,9 @@ const _: () = {
             <u8 as ::ulog_core::typed::WireField>::Writability,
         >;
         const SOURCES: usize = __R2 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
+        const DIRECT: bool = true && <le::U64 as ::ulog_core::typed::WireField>::DIRECT
+            && <le::F32 as ::ulog_core::typed::WireField>::DIRECT
+            && <u8 as ::ulog_core::typed::WireField>::DIRECT;
         #[inline]
         fn from_wire(
             wire: &[u8; __SIZE],

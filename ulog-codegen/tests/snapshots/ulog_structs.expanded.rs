@@ -50,6 +50,12 @@ const _: () = {
         const OPTIONAL: usize = 0usize;
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R4 + 0usize;
+        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
+            && <f32 as ::ulog_core::typed::WireField>::DIRECT
+            && <u8 as ::ulog_core::typed::WireField>::DIRECT
+            && <::ulog_core::typed::CharArray<
+                3usize,
+            > as ::ulog_core::typed::WireField>::DIRECT && true;
         #[inline]
         fn from_wire(
             wire: &[u8; 32usize],
@@ -222,6 +228,8 @@ const _: () = {
         type Writability = ::ulog_core::typed::Writable;
         const SOURCES: usize = __R0
             + ::ulog_core::typed::__private::array_sources::<VehicleAttitude>(2usize);
+        const DIRECT: bool = true
+            && <VehicleAttitude as ::ulog_core::typed::WireField>::DIRECT;
         #[inline]
         fn from_wire(
             wire: &[u8; 64usize],

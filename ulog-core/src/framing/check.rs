@@ -83,32 +83,36 @@ pub(crate) fn is_text_byte(b: u8) -> bool {
 fn plausible_key(key: &[u8], value_len: usize, resync: bool, known: &KnownKeys) -> bool {
     // Outside resynchronisation only the key counts, and logs repeat a few keys
     // (parameter changes): one parse per key.
-    if !resync && known.contains(key) {
-        return true;
-    }
-    let ok = parse_plausible_key(key, value_len, resync);
-    if ok && !resync {
-        known.insert(key);
-    }
-    ok
+    (!resync && known.0.contains(key)) || parse_plausible_key(key, value_len, resync)
 }
 
-/// The keys [`plausible_key`] accepted outside resynchronisation, up to a bound (a
-/// hostile log of endless distinct keys is then parsed key by key, as without it).
-#[derive(Debug, Default, Clone)]
-pub(crate) struct KnownKeys(std::cell::RefCell<std::collections::HashSet<Box<[u8]>>>);
+/// The keys of information and parameter messages framing accepted outside
+/// resynchronisation, up to a bound (a hostile log of endless distinct keys is then
+/// parsed key by key, as without it). A memo: a copy starts empty.
+#[derive(Debug, Default)]
+pub(crate) struct KnownKeys(std::collections::HashSet<Box<[u8]>>);
+
+impl Clone for KnownKeys {
+    fn clone(&self) -> KnownKeys {
+        KnownKeys::default()
+    }
+}
 
 impl KnownKeys {
     const MAX: usize = 4096;
 
-    fn contains(&self, key: &[u8]) -> bool {
-        self.0.borrow().contains(key)
-    }
-
-    fn insert(&self, key: &[u8]) {
-        let mut keys = self.0.borrow_mut();
-        if keys.len() < Self::MAX {
-            keys.insert(key.into());
+    /// Remembers the key of `payload`, an accepted message of type `t` framed
+    /// outside resynchronisation.
+    pub(crate) fn accepted(&mut self, t: u8, payload: &[u8]) {
+        let key = match t {
+            b'I' | b'P' => payload.get(1..1 + usize::from(*payload.first().unwrap_or(&0))),
+            b'M' | b'Q' => payload.get(2..2 + usize::from(*payload.get(1).unwrap_or(&0))),
+            _ => None,
+        };
+        if let Some(key) = key {
+            if self.0.len() < Self::MAX && !self.0.contains(key) {
+                self.0.insert(key.into());
+            }
         }
     }
 }

@@ -315,6 +315,9 @@ impl Framer {
                     };
                     self.pos = record.end();
                     let payload = &win[rel + 3..rel + 3 + size as usize];
+                    if !self.in_definitions {
+                        self.known_keys.accepted(msg_type, payload);
+                    }
                     return self.accept(record, payload, first).map(Step::Record);
                 }
                 Check::Bad(bad) => {

@@ -161,9 +161,18 @@ const PART: usize = 32 << 20;
 /// prefix read: all of `memory`, or less where the file shrank meanwhile.
 #[cfg(feature = "mmap")]
 fn read_parts(file: &std::fs::File, memory: &mut [u8], part: usize) -> std::io::Result<usize> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if memory.is_empty() {
+        return Ok(0);
+    }
+    // Elsewhere reads go through the file's one cursor: one part.
+    let threads = if cfg!(any(unix, windows)) {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        1
+    };
     let count = (memory.len() / part.max(1)).clamp(1, threads);
-    // Parts that start on a huge-page boundary: no page is faulted by two threads.
+    // Parts of whole huge pages (from the start of the memory, which the kernel
+    // aligns to them where it backs it with them): no page faulted by two threads.
     let size = memory.len().div_ceil(count).next_multiple_of(2 << 20);
     let len = memory.len();
     let parts: Vec<std::sync::Mutex<Option<&mut [u8]>>> = memory
@@ -218,6 +227,13 @@ fn read_once(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<u
     std::os::windows::fs::FileExt::seek_read(file, buf, at)
 }
 
+#[cfg(all(feature = "mmap", not(any(unix, windows))))]
+fn read_once(mut file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<usize> {
+    use std::io::{Read, Seek, SeekFrom};
+    file.seek(SeekFrom::Start(at))?;
+    file.read(buf)
+}
+
 impl core::fmt::Debug for LogFile {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("LogFile")
@@ -265,6 +281,8 @@ mod tests {
             .collect();
         std::fs::write(&path, &bytes).unwrap();
         let file = std::fs::File::open(&path).unwrap();
+        let mut none: [u8; 0] = [];
+        assert_eq!(read_parts(&file, &mut none, 1 << 20).unwrap(), 0);
         for extra in [0, 3 << 20] {
             let mut memory = vec![0u8; bytes.len() + extra];
             let n = read_parts(&file, &mut memory, 1 << 20).unwrap();

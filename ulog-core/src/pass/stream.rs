@@ -212,3 +212,16 @@ impl<R: Read> StreamReader<R> {
         &self.inner
     }
 }
+
+#[cfg(test)]
+mod thread_tests {
+    /// The readers can be sent to, and shared with, other threads: framing keeps no
+    /// state behind a `RefCell` or the like.
+    #[test]
+    fn readers_are_send_and_sync() {
+        fn send_sync<T: Send + Sync>() {}
+        send_sync::<super::PushReader>();
+        send_sync::<super::StreamReader<std::fs::File>>();
+        send_sync::<crate::read::Messages<'static>>();
+    }
+}

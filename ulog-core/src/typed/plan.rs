@@ -44,9 +44,11 @@ struct CopyOp {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct RawPlan {
     kind: PlanKind,
-    /// Where each field of the binding is in the log's payload, for
-    /// [`WireField::from_payload`]; empty where the binding takes other offsets than
-    /// its schema says (a hand-written `WireField`), which is decoded from `copies`.
+    /// Whether payloads are decoded by [`WireField::from_payload`] from `sources`
+    /// (derived bindings), else through a wire image of the binding: the payload's
+    /// prefix (exact plans) or `copies` (a hand-written `WireField`).
+    direct: bool,
+    /// Where each field of the binding is in the log's payload, in field order.
     sources: Box<[u32]>,
     copies: Box<[CopyOp]>,
     /// The log's full payload size, and its size without trailing padding.
@@ -110,13 +112,17 @@ impl RawPlan {
             }
         }
         let all_present = walk.present.iter().all(|&p| p);
-        let sources = if walk.sources.len() == T::SOURCES {
-            walk.sources.into_boxed_slice()
-        } else {
-            Box::new([])
-        };
+        // A derived binding counts its offsets as the walk does; one implemented by
+        // hand is decoded through its wire image.
+        debug_assert!(
+            !T::DIRECT || walk.sources.len() == T::SOURCES,
+            "payload offsets of `{}`",
+            schema.rust_name()
+        );
+        let direct = T::DIRECT && walk.sources.len() == T::SOURCES;
         Ok(RawPlan {
-            sources,
+            direct,
+            sources: walk.sources.into_boxed_slice(),
             kind: if walk.why.is_none() {
                 PlanKind::Exact
             } else {
@@ -168,7 +174,7 @@ impl RawPlan {
                 };
             }
         }
-        if !self.sources.is_empty() || T::SOURCES == 0 {
+        if self.direct {
             return Ok(T::from_payload(payload, &self.sources, self.present()));
         }
         let mut wire = T::Wire::new_zeroed();
@@ -320,7 +326,7 @@ fn map_fields(
         }
         match (&own.ty, &theirs.ty, def.kind()) {
             (LayoutType::Basic(a), LayoutType::Basic(b), _) if a == b => {
-                walk.sources.push(from as u32);
+                walk.sources.push(u32::try_from(from).unwrap_or(NOWHERE));
                 if lengths_agree {
                     walk.copies.push(CopyOp {
                         src: from,
@@ -350,13 +356,10 @@ fn map_fields(
                     walk.why.get_or_insert(why);
                 }
                 for i in 0..own.array_len.unwrap_or(1) {
-                    let base = (from + i * other.size()) as u32;
-                    walk.sources.extend(inner.sources.iter().map(|&s| {
-                        if s == NOWHERE {
-                            s
-                        } else {
-                            base + s
-                        }
+                    let base = from + i * other.size();
+                    walk.sources.extend(inner.sources.iter().map(|&s| match s {
+                        NOWHERE => s,
+                        s => u32::try_from(base + s as usize).unwrap_or(NOWHERE),
                     }));
                 }
                 if lengths_agree {
@@ -566,6 +569,71 @@ mod tests {
         }
     }
 
+    /// A binding implemented by hand with one field and trailing padding: as many
+    /// payload offsets (one) as its schema, by chance.
+    #[derive(Debug, PartialEq)]
+    struct Stamp {
+        t: u64,
+    }
+
+    impl WireField for Stamp {
+        type Wire = [u8; 16];
+        type Writability = Writable;
+        const KIND: FieldKind = FieldKind::Nested(<Stamp as ULogMessage>::schema);
+        fn from_wire(w: &[u8; 16], _: Present<'_>) -> Stamp {
+            let mut t = [0; 8];
+            t.copy_from_slice(&w[..8]);
+            Stamp {
+                t: u64::from_le_bytes(t),
+            }
+        }
+        fn to_wire(&self) -> [u8; 16] {
+            let mut w = [0; 16];
+            w[..8].copy_from_slice(&self.t.to_le_bytes());
+            w
+        }
+    }
+
+    impl ULogMessage for Stamp {
+        const NAME: &'static str = "stamp";
+        fn schema() -> &'static Schema {
+            static FIELDS: [FieldDef; 2] = [
+                FieldDef::new("t", &[], FieldKind::Basic(BasicType::UInt64), None),
+                FieldDef::new(
+                    "_padding0",
+                    &[],
+                    FieldKind::Basic(BasicType::UInt8),
+                    Some(8),
+                ),
+            ];
+            static SCHEMA: OnceLock<Schema> = OnceLock::new();
+            SCHEMA.get_or_init(|| Schema::build("stamp", &FIELDS))
+        }
+    }
+
+    /// A hand-written binding is never read from payload offsets, even where their
+    /// count matches its own: its whole wire image would be read from its first
+    /// field's offset. Here a payload that leaves the trailing padding out, and one
+    /// with the field last.
+    #[test]
+    fn a_hand_written_binding_with_one_field_decodes_its_field() {
+        for (format, payload) in [
+            (
+                "stamp:uint64_t t;uint8_t[8] _padding0;",
+                &[5u8, 0, 0, 0, 0, 0, 0, 0][..],
+            ),
+            (
+                "stamp:uint8_t x;uint64_t t;",
+                &[9, 5, 0, 0, 0, 0, 0, 0, 0][..],
+            ),
+        ] {
+            let format = Format::parse(format).unwrap();
+            let layout = Layout::resolve("stamp", &[format][..]).unwrap();
+            let plan = Plan::<Stamp>::new(&layout).unwrap();
+            assert_eq!(plan.decode(payload).unwrap(), Stamp { t: 5 }, "{layout:?}");
+        }
+    }
+
     /// A hand-written binding whose offsets the plan cannot hand to `from_payload`
     /// still decodes a log that lays it out otherwise: through a wire image of it
     /// (derived bindings, which read from the payload, are decoded by every typed
@@ -577,8 +645,8 @@ mod tests {
         let plan = Plan::<Pair>::new(&layout).unwrap();
         assert_eq!(plan.kind(), PlanKind::Mapped);
         assert!(
-            plan.raw.sources.is_empty(),
-            "no offsets for a hand-written binding"
+            !plan.raw.direct,
+            "a hand-written binding is not read from payload offsets"
         );
         let payload = [7, 0, 0xee, 1, 2, 0, 0];
         assert_eq!(plan.decode(&payload).unwrap(), Pair { a: 0x201, b: 7 });

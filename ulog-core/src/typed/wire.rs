@@ -87,6 +87,12 @@ pub trait WireField: Sized {
     /// every type but bindings, whose fields each take their own (generated code).
     #[doc(hidden)]
     const SOURCES: usize = 1;
+    /// Whether [`from_payload`](Self::from_payload) reads it from `SOURCES` offsets
+    /// as the plan finds them: basic types (one value, whole), and derived bindings
+    /// whose fields all do. A binding implemented by hand is decoded through its wire
+    /// image instead (generated code).
+    #[doc(hidden)]
+    const DIRECT: bool = matches!(Self::KIND, FieldKind::Basic(_));
     /// The value of a wire image, its optional fields as `present` says.
     fn from_wire(wire: &Self::Wire, present: Present<'_>) -> Self;
     /// The value read straight from a log's payload, where `sources` says each part
