@@ -6,7 +6,7 @@ set -uo pipefail
 cd "$(dirname "$0")"
 seconds=${1:-60}
 mkdir -p logs
-for t in reader chunked columns grammar typed roundtrip; do
+for t in reader chunked columns grammar typed roundtrip messages; do
     mkdir -p "corpus/$t"
     RUSTC_BOOTSTRAP=1 cargo fuzz run -O "$t" "corpus/$t" -- \
         -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=131072 -timeout=10 \

@@ -29,9 +29,12 @@ struct Row {
     _padding0: [u8; 3],
 }
 
+/// The fields of one row of `Row`, as arbitrary values.
+type RowValues = (u64, i8, u16, i64, u32, u64, bool, [u8; 5], [i32; 4], u8);
+
 #[derive(Arbitrary, Debug)]
 struct Input {
-    rows: Vec<(u64, i8, u16, i64, u32, u64, bool, [u8; 5], [i32; 4], u8)>,
+    rows: Vec<RowValues>,
     text: String,
     sync: Option<u16>,
 }

@@ -139,6 +139,12 @@ pub fn recovered_stretches(log: &ulog_core::ULog<'_>) -> Vec<(u64, u64)> {
 /// import pyulog when they were built (`cfg(pyulog)`, see `build.rs`):
 /// `#[cfg_attr(not(pyulog), ignore = "needs pyulog")]`.
 pub fn pyulog_dump(test: &str, bytes: &[u8]) -> serde_json::Value {
+    pyulog_try_dump(test, bytes).unwrap_or_else(|e| panic!("pyulog failed: {e}"))
+}
+
+/// [`pyulog_dump`], or pyulog's error output when it refuses the bytes (an exception
+/// on damaged input).
+pub fn pyulog_try_dump(test: &str, bytes: &[u8]) -> Result<serde_json::Value, String> {
     use std::process::Command;
     let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -151,10 +157,8 @@ pub fn pyulog_dump(test: &str, bytes: &[u8]) -> serde_json::Value {
         .output()
         .unwrap();
     std::fs::remove_dir_all(&dir).ok();
-    assert!(
-        out.status.success(),
-        "pyulog failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    Ok(serde_json::from_slice(&out.stdout).unwrap())
 }

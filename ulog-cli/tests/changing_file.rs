@@ -45,11 +45,14 @@ fn big_log() -> Vec<u8> {
 }
 
 /// Changes the file at `path` (of `len` bytes at first) until `stop`: truncations to
-/// any length, extensions with garbage, rewrites of stretches in place.
-fn mutate(path: &Path, original: &[u8], stop: &AtomicBool, seed: u64) {
+/// any length, extensions with garbage, rewrites of stretches in place. Returns how
+/// many changes it made.
+fn mutate(path: &Path, original: &[u8], stop: &AtomicBool, seed: u64) -> usize {
     let mut rng = Rng::new(seed | 1);
     let len = original.len() as u64;
+    let mut changes = 0;
     while !stop.load(Ordering::Relaxed) {
+        changes += 1;
         let Ok(mut f) = std::fs::OpenOptions::new().write(true).open(path) else {
             continue;
         };
@@ -74,6 +77,7 @@ fn mutate(path: &Path, original: &[u8], stop: &AtomicBool, seed: u64) {
             }
         }
     }
+    changes
 }
 
 #[test]
@@ -111,13 +115,15 @@ fn every_command_survives_a_file_changing_under_it() {
     const RUNS: usize = 40;
     let mut runs = 0;
     for (c, args) in commands.iter().enumerate() {
+        let mut changes = 0;
         for run in 0..RUNS {
             let path = dir.join("changing.ulg");
             std::fs::write(&path, &original).unwrap();
             let _ = std::fs::remove_dir_all(&out);
             let stop = AtomicBool::new(false);
             let output = std::thread::scope(|s| {
-                s.spawn(|| mutate(&path, &original, &stop, (c * RUNS + run) as u64 * 7919));
+                let mutator =
+                    s.spawn(|| mutate(&path, &original, &stop, (c * RUNS + run) as u64 * 7919));
                 let mut cmd = Command::new(env!("CARGO_BIN_EXE_ulog"));
                 cmd.arg(&args[0]).arg(&path).args(&args[1..]);
                 let output = cmd
@@ -127,6 +133,7 @@ fn every_command_survives_a_file_changing_under_it() {
                     .output()
                     .expect("run ulog");
                 stop.store(true, Ordering::Relaxed);
+                changes += mutator.join().unwrap();
                 output
             });
             let stderr = String::from_utf8_lossy(&output.stderr);
@@ -151,6 +158,14 @@ fn every_command_survives_a_file_changing_under_it() {
             );
             runs += 1;
         }
+        // The file did change under the command, at least once a run on average
+        // (how often is printed: a whole rewrite takes longer than a short command).
+        assert!(
+            changes >= RUNS,
+            "`ulog {}`: only {changes} changes in {RUNS} runs",
+            args[0]
+        );
+        eprintln!("`ulog {}`: {RUNS} runs, {changes} changes", args[0]);
     }
     eprintln!(
         "{runs} runs of {} commands on a changing file",

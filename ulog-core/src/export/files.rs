@@ -7,10 +7,9 @@ use std::sync::Arc;
 
 use arrow_schema::Schema;
 
-use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression as ParquetCompression;
 use parquet::file::metadata::KeyValue;
-use parquet::file::properties::WriterProperties;
+use parquet::file::properties::{EnabledStatistics, WriterProperties};
 
 use super::error::{ExportError, ExportErrorKind};
 use crate::access::topic::Topic;
@@ -19,6 +18,7 @@ type Result<T, E = ExportError> = core::result::Result<T, E>;
 use crate::log::ulog::ULog;
 
 use super::arrow::TopicTable;
+use super::leaves::LeafWriter;
 use super::{file_name, selected_topics, write_metadata, Compression, Options, METADATA_FILE};
 
 /// A Parquet file written for a topic instance.
@@ -97,8 +97,10 @@ pub fn write_parquet_with(
     let mut skipped = Vec::new();
     let mut names = std::collections::HashSet::new();
     for topic in &topics {
-        let table = match table_of(topic, options) {
-            Ok(t) => t,
+        // The table is built again when the topic is written: built for every topic
+        // here, they would all be held at once (some kilobytes per leaf column).
+        let leaves = match table_of(topic, options) {
+            Ok(table) => leaves(table.schema.fields()),
             Err(error) => {
                 skipped.push(Skipped {
                     topic: topic.name().to_owned(),
@@ -118,7 +120,7 @@ pub fn write_parquet_with(
             );
             names.insert(name.clone());
         }
-        jobs.push((topic, table, dir.join(name)));
+        jobs.push((topic, leaves, dir.join(name)));
     }
     let files = write_tables(&jobs, options, written)?;
     let metadata = dir.join(METADATA_FILE);
@@ -130,28 +132,57 @@ pub fn write_parquet_with(
     })
 }
 
-/// Writes the tables of `jobs` on up to [`Options::threads`] threads, largest topics
-/// first; the files come back in the order of `jobs`. The first failure (in that
+/// Writes the tables of `jobs` (topic, leaf columns, path): the wide ones first, one at
+/// a time on this thread, then the others on up to [`Options::threads`] threads,
+/// largest topics first; the files come back in the order of `jobs`. The first failure (in that
 /// order) is returned; no new file is started after a failure.
 fn write_tables(
-    jobs: &[(&Topic<'_, '_>, TopicTable, PathBuf)],
+    jobs: &[(&Topic<'_, '_>, usize, PathBuf)],
     options: &Options,
     written: impl FnMut(&Written) + Send,
 ) -> Result<Vec<Written>> {
-    let costs: Vec<u64> = jobs
-        .iter()
-        .map(|(topic, ..)| {
-            let row = topic.layout().map_or(0, |l| l.size());
-            (topic.len() * (row + 16)) as u64
-        })
-        .collect();
     let written = std::sync::Mutex::new(written);
-    let results = crate::parallel::largest_first(&costs, options.threads, |i| {
-        let (topic, table, path) = &jobs[i];
-        let file = write_table(topic, table, path, options)?;
+    let job = |i: usize| {
+        let (topic, _, path) = &jobs[i];
+        let table = table_of(topic, options)?;
+        let file = write_table(topic, &table, path, options)?;
         (written.lock().unwrap_or_else(|p| p.into_inner()))(&file);
         Ok(file)
-    });
+    };
+    let (wide, narrow): (Vec<usize>, Vec<usize>) =
+        (0..jobs.len()).partition(|&i| jobs[i].1 > WIDE_LEAVES);
+    let mut results: Vec<Option<Result<Written>>> = (0..jobs.len()).map(|_| None).collect();
+    // Wide tables one at a time, on this thread, and one at a time in the process
+    // (several logs exported at once): a file's writer keeps some kilobytes of
+    // metadata per leaf column until its footer, most of a wide table's memory, and
+    // memory a thread frees stays with that thread's allocator arena for its next
+    // allocations, not another thread's (bench/README.md).
+    let mut failed = false;
+    for &i in &wide {
+        let result = {
+            let _alone = WIDE_TABLE.lock().unwrap_or_else(|p| p.into_inner());
+            job(i)
+        };
+        failed = result.is_err();
+        results[i] = Some(result);
+        if failed {
+            break;
+        }
+    }
+    if !failed {
+        let costs: Vec<u64> = narrow
+            .iter()
+            .map(|&i| {
+                let topic = jobs[i].0;
+                let row = topic.layout().map_or(0, |l| l.size());
+                (topic.len() * (row + 16)) as u64
+            })
+            .collect();
+        let done = crate::parallel::largest_first(&costs, options.threads, |k| job(narrow[k]));
+        for (k, result) in done.into_iter().enumerate() {
+            results[narrow[k]] = result;
+        }
+    }
     let mut files = Vec::with_capacity(jobs.len());
     for result in results {
         match result {
@@ -163,6 +194,9 @@ fn write_tables(
     }
     Ok(files)
 }
+
+/// Held while a wide table (more than [`WIDE_LEAVES`] leaf columns) is written.
+static WIDE_TABLE: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Writes the rows of one topic instance to a Parquet file at `path` (replaced if it
 /// exists; written under a temporary name first, so a failed write leaves no partial
@@ -183,11 +217,23 @@ fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
     Ok(table)
 }
 
-/// Tables with more leaf columns than this are written without dictionary encoding:
-/// each column's dictionary encoder holds tens of KB whatever the row count, which
-/// for very wide formats is most of the export's memory (bench/README.md). PX4 topics
-/// have a few hundred leaves at most, and keep it.
-const DICTIONARY_LEAVES: usize = 1024;
+/// Payload bytes of a row group at most (and [`Options::row_group_rows`] rows): its
+/// record batch is built whole before its columns are written, so this bounds the
+/// memory of a topic being written, with one column writer at a time.
+const ROW_GROUP_BYTES: usize = 16 << 20;
+
+/// A column chunk's dictionary page at most, after which its values are written
+/// plain: a column of distinct values (timestamps, most floats) stops paying for a
+/// dictionary sooner than with the default 1 MiB, and row groups cut by
+/// [`ROW_GROUP_BYTES`] get files a little smaller than the default's (bench/README.md).
+const DICTIONARY_PAGE_BYTES: usize = 256 << 10;
+
+/// Tables with more leaf columns than this are written without dictionary encoding
+/// and without page statistics: each column's dictionary encoder holds tens of KB
+/// whatever the row count, and its column index more metadata until the footer,
+/// which for very wide formats is most of the export's memory (bench/README.md). PX4
+/// topics have a few hundred leaves at most, and keep both.
+const WIDE_LEAVES: usize = 1024;
 
 /// The number of leaf columns (Parquet columns) of `fields`.
 fn leaves(fields: &arrow_schema::Fields) -> usize {
@@ -210,6 +256,7 @@ fn write_table(
     path: &Path,
     options: &Options,
 ) -> Result<Written> {
+    let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
     let compression = match options.compression {
         Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
         Compression::Snappy => ParquetCompression::SNAPPY,
@@ -225,7 +272,15 @@ fn write_table(
         .set_compression(compression)
         .set_created_by(concat!("ulog-core ", env!("CARGO_PKG_VERSION")).to_owned())
         .set_key_value_metadata(Some(metadata))
-        .set_dictionary_enabled(leaves(table.schema.fields()) <= DICTIONARY_LEAVES)
+        .set_dictionary_enabled(narrow)
+        .set_dictionary_page_size_limit(DICTIONARY_PAGE_BYTES)
+        // Page statistics (the column index) are more metadata per column held until
+        // the footer; wide tables keep the statistics of each column chunk only.
+        .set_statistics_enabled(if narrow {
+            EnabledStatistics::Page
+        } else {
+            EnabledStatistics::Chunk
+        })
         .build();
 
     let mut tmp = path.as_os_str().to_owned();
@@ -238,15 +293,20 @@ fn write_table(
         // the same from run to run. Readers merge the two.
         let schema = Arc::new(Schema::new(table.schema.fields().clone()));
         let mut writer =
-            ArrowWriter::try_new(BufWriter::with_capacity(1 << 20, file), schema, Some(props))
+            LeafWriter::try_new(BufWriter::with_capacity(1 << 20, file), schema, props)
                 .map_err(|e| write_error(&tmp, e))?;
-        let payloads: Vec<&[u8]> = topic.payloads().collect();
         let offsets = topic.message_offsets();
-        let step = options.batch_rows.max(1);
-        for start in (0..payloads.len()).step_by(step) {
-            let end = (start + step).min(payloads.len());
-            let batch = table.batch(&payloads[start..end], offsets.slice(start..end))?;
-            writer.write(&batch).map_err(|e| write_error(&tmp, e))?;
+        let row_size = topic.layout().map_or(1, |l| l.size().max(1));
+        let step = options
+            .row_group_rows
+            .clamp(1, (ROW_GROUP_BYTES / row_size).max(1));
+        for start in (0..topic.len()).step_by(step) {
+            let end = (start + step).min(topic.len());
+            let payloads: Vec<&[u8]> = topic.payloads_in(start..end).collect();
+            let batch = table.batch(&payloads, offsets.slice(start..end))?;
+            writer
+                .write_row_group(&batch)
+                .map_err(|e| write_error(&tmp, e))?;
         }
         writer.close().map_err(|e| write_error(&tmp, e))?;
         std::fs::rename(&tmp, path).map_err(|e| ExportError::io(e, path))

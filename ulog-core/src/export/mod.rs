@@ -50,6 +50,7 @@
 mod arrow;
 mod error;
 mod files;
+mod leaves;
 mod metadata;
 #[cfg(test)]
 mod tests;
@@ -91,9 +92,12 @@ pub struct Options {
     pub topics: Option<Vec<String>>,
     /// Compression of the Parquet files.
     pub compression: Compression,
-    /// Rows per record batch when writing (bounds the memory used per topic); at
-    /// least 1.
+    /// Rows per record batch of [`topic_record_batches`]; at least 1.
     pub batch_rows: usize,
+    /// Rows per Parquet row group at most, when writing; a row group also holds at
+    /// most 16 MiB of payload (its record batch is built whole: this bounds the
+    /// memory used per topic). At least 1.
+    pub row_group_rows: usize,
     /// Threads writing topics at once (`0` or `1`: on the calling thread). The files
     /// are the same whatever the number.
     pub threads: usize,
@@ -106,6 +110,7 @@ impl Default for Options {
             topics: None,
             compression: Compression::Snappy,
             batch_rows: 65_536,
+            row_group_rows: 1 << 20,
             threads: 1,
         }
     }

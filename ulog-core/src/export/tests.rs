@@ -313,6 +313,7 @@ fn batches_split_rows_and_keep_them_all() {
     let topic = log.topic("vehicle_attitude", 0).unwrap();
     let options = Options {
         batch_rows: 7,
+        row_group_rows: 7,
         ..Options::default()
     };
     let batches: Vec<RecordBatch> = topic_record_batches(&topic, &options)
@@ -332,21 +333,15 @@ fn batches_split_rows_and_keep_them_all() {
     }
     assert_eq!(row, topic.len());
 
-    // Written in batches of 7, read back whole.
+    // Written in row groups of 7, read back whole.
     let dir = scratch("batches");
     let path = dir.join("att.parquet");
     std::fs::create_dir_all(&dir).unwrap();
     write_topic(&topic, &path, &options).unwrap();
-    let file = std::fs::File::open(&path).unwrap();
-    let back: Vec<RecordBatch> = ParquetRecordBatchReaderBuilder::try_new(file)
-        .unwrap()
-        .with_batch_size(1 << 20)
-        .build()
-        .unwrap()
-        .map(|b| b.unwrap())
-        .collect();
-    assert_eq!(back.len(), 1);
-    assert_eq!(back[0].column(1).to_data(), whole.column(1).to_data());
+    let (meta, _, back) = read_whole(&path);
+    // One row group per batch.
+    assert_eq!(meta.num_row_groups(), topic.len().div_ceil(7));
+    assert_eq!(back.column(1).to_data(), whole.column(1).to_data());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -580,4 +575,124 @@ fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
         std::fs::remove_dir_all(&dir).unwrap();
     }
     std::fs::remove_dir_all(&one).unwrap();
+}
+
+/// A Parquet file's metadata and schema, and all its rows as one batch.
+fn read_whole(
+    path: &std::path::Path,
+) -> (
+    std::sync::Arc<parquet::file::metadata::ParquetMetaData>,
+    arrow_schema::SchemaRef,
+    RecordBatch,
+) {
+    let file = std::fs::File::open(path).unwrap();
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    let meta = builder.metadata().clone();
+    let schema = builder.schema().clone();
+    let mut back: Vec<RecordBatch> = builder
+        .with_batch_size(1 << 20)
+        .build()
+        .unwrap()
+        .map(|b| b.unwrap())
+        .collect();
+    assert_eq!(back.len(), 1);
+    (meta, schema, back.pop().unwrap())
+}
+
+/// A log with a wide topic (flattened: 1,500 bytes, 60 structs of 4 fields and 3
+/// structs of a nested array: more than `WIDE_LEAVES` columns) and the narrow
+/// nested topic of [`nested_log`].
+fn wide_log() -> Vec<u8> {
+    let mut b = LogBuilder::new(1, 0);
+    b.format("cell:uint16_t a;int8_t b;float c;char[3] d;");
+    b.format("deep:cell[2] cells;uint32_t n;");
+    b.format("wide:uint64_t timestamp;uint8_t[1500] raw;cell[60] cells;deep[3] deeps;");
+    b.format("inner:uint32_t v;char[4] name;float[2] xy;uint8_t[2] _padding0;");
+    b.format("outer:uint64_t timestamp;inner[2] items;int16_t[3] arr;");
+    b.subscribe(0, 0, "wide");
+    b.subscribe(0, 1, "outer");
+    let cell = |p: &mut Vec<u8>, k: u32| {
+        p.extend_from_slice(&(k as u16).to_le_bytes());
+        p.push(k as u8 ^ 0x80);
+        p.extend_from_slice(&(k as f32 / 3.0).to_le_bytes());
+        p.extend_from_slice(&[b'a' + (k % 26) as u8, 0, b'z']);
+    };
+    for row in 0..5u32 {
+        let mut p = (u64::from(row) * 1000).to_le_bytes().to_vec();
+        p.extend((0..1500u32).map(|k| (k * 7 + row) as u8));
+        for k in 0..60 {
+            cell(&mut p, row * 60 + k);
+        }
+        for k in 0..3 {
+            cell(&mut p, 1000 + k);
+            cell(&mut p, 2000 + k);
+            p.extend_from_slice(&(row + k).to_le_bytes());
+        }
+        b.data(0, &p);
+        let mut q = (u64::from(row) * 1000 + 1).to_le_bytes().to_vec();
+        for k in 0..2u32 {
+            q.extend_from_slice(&(row * 10 + k).to_le_bytes());
+            q.extend_from_slice(b"abcd");
+            q.extend_from_slice(&(k as f32).to_le_bytes());
+            q.extend_from_slice(&(row as f32).to_le_bytes());
+            q.extend_from_slice(&[0, 0]);
+        }
+        for k in 0..3i16 {
+            q.extend_from_slice(&(k * row as i16).to_le_bytes());
+        }
+        b.data(1, &q);
+    }
+    b.into_bytes()
+}
+
+#[test]
+fn wide_and_narrow_topics_read_back_equal_on_any_thread_count() {
+    use parquet::basic::Encoding;
+    let bytes = wide_log();
+    let log = ULog::parse(&bytes).unwrap();
+    for flatten in [false, true] {
+        let mut first: Option<Vec<Vec<u8>>> = None;
+        for threads in [1, 3] {
+            let options = Options {
+                flatten,
+                threads,
+                row_group_rows: 2,
+                ..Options::default()
+            };
+            let dir = scratch(&format!("wide-{flatten}-{threads}"));
+            let export = write_parquet(&log, &dir, &options).unwrap();
+            assert_eq!(export.files.len(), 2, "{:?}", export.skipped);
+            let mut contents = Vec::new();
+            for written in &export.files {
+                let topic = log.topic(&written.topic, written.multi_id).unwrap();
+                let ours = topic_record_batch(&topic, &options).unwrap();
+                let (meta, schema, back) = read_whole(&written.path);
+                assert_eq!(meta.num_row_groups(), 3, "5 rows in row groups of 2");
+                assert_eq!(schema, ours.schema(), "{}", written.topic);
+                for (a, b) in back.columns().iter().zip(ours.columns()) {
+                    assert_eq!(a.to_data(), b.to_data(), "{}", written.topic);
+                }
+                // Wide tables: no dictionaries, no column index; narrow ones keep both.
+                // (Nested, `wide` is 11 leaves: an array is one list column.)
+                let wide = written.topic == "wide" && flatten;
+                let leaves = meta.file_metadata().schema_descr().num_columns();
+                assert_eq!(wide, leaves > 1024, "{} has {leaves} leaves", written.topic);
+                let column = meta.row_group(0).column(1);
+                assert_eq!(
+                    column.encodings().contains(&Encoding::RLE_DICTIONARY),
+                    !wide,
+                    "{}: {:?}",
+                    written.topic,
+                    column.encodings()
+                );
+                assert_eq!(column.column_index_offset().is_some(), !wide);
+                contents.push(std::fs::read(&written.path).unwrap());
+            }
+            match &first {
+                None => first = Some(contents),
+                Some(one) => assert!(one == &contents, "{threads} threads: a file differs"),
+            }
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
 }

@@ -68,6 +68,12 @@ impl Framer {
             let at_end = usize::from(matches!(bad, Bad::UnknownType(_)));
             match self.chain_valid(win, base, end, eof, CHAIN_DEPTH, at_end) {
                 None => return Some(Step::NeedMore),
+                // A bad message has nothing but the chain after it to vouch for its
+                // size, and landing on a message boundary by chance is likely enough in
+                // a log of small messages: one that spans messages of its own is a
+                // broken header (an unknown type of chance bytes, a key or size field
+                // hit by corruption), and resynchronising keeps what it would swallow.
+                Some(true) if self.spans_a_chain(win, base, p, end) => {}
                 Some(true) => {
                     let len = 3 + size as u64;
                     self.finding(self.bad_kind(bad, msg_type), p, len);
@@ -220,31 +226,46 @@ impl Framer {
         }
     }
 
-    /// Whether a place found while resynchronising starts real messages: a chain of three,
-    /// or of two that end exactly at an appended offset or the end of the file (one
-    /// message that happens to end there could be the tail of the cut message itself),
-    /// or at zero fill.
+    /// Whether a place found while resynchronising starts real messages: a chain of
+    /// three; or, where the messages stop (the end of the file, an appended offset, zero
+    /// fill), two, or a single data message.
     ///
     /// Zero fill is where a writer's bytes stop, as the end of the file is: after a
     /// power loss an SD card keeps good messages between blocks it never wrote, which
     /// read as headers of size 0 and type 0, so an island of one or two messages
     /// between two runs of zeros is common (pyulog, stepping through the zeros a byte
-    /// at a time, reads it). There a single data message is enough: its msg_id is
-    /// subscribed and its size one its format allows (chance bytes almost never pass
-    /// that), and the zero header is the one at its end. Any other single message
-    /// needs a second one, as at the end of the file: text that runs into zeros could
-    /// pass for a logged string or a key. The zeros are still skipped and reported as
-    /// a damaged stretch of their own.
+    /// at a time, reads it). A single data message is enough there and at the end of
+    /// the file: its msg_id is subscribed, its size exactly its format's, and it ends
+    /// exactly where the bytes stop (chance bytes almost never pass all three). Any
+    /// other single message needs a second one: text that runs into zeros could pass
+    /// for a logged string or a key. The zeros are still skipped and reported as a
+    /// damaged stretch of their own.
+    ///
+    /// Before more damage (a broken header) two are needed even for data: damage comes
+    /// in stretches, and a message framed alone inside one is as likely damaged itself
+    /// (the corpus log `corrupt_unregistered_msg_id` has one whose header is intact and
+    /// whose timestamp is 4·10¹⁸ µs; pyulog skips it too).
     fn chain_valid_resync(&self, win: &[u8], base: u64, q: u64, eof: bool) -> Option<bool> {
         let depth = CHAIN_DEPTH;
+        let data = win.get((q - base) as usize + 2) == Some(&b'D');
         match self.chain_len(win, base, q, eof, depth, false)? {
             (n, _) if n > depth => Some(true),
-            (n, ChainEnd::FileEnd) => Some(n >= 2),
-            (n, ChainEnd::ZeroFill) => {
-                Some(n >= 2 || (n == 1 && win[(q - base) as usize + 2] == b'D'))
-            }
-            (_, ChainEnd::Open | ChainEnd::Broken) => Some(false),
+            (n, ChainEnd::FileEnd | ChainEnd::ZeroFill) => Some(n >= 2 || (n == 1 && data)),
+            (n, ChainEnd::Broken) => Some(n >= 2),
+            (_, ChainEnd::Open) => Some(false),
         }
+    }
+
+    /// Whether a chain of plausible messages (as strict as resynchronising: three
+    /// messages) lies wholly inside the bytes `p + 1..end`, which `win` holds.
+    fn spans_a_chain(&self, win: &[u8], base: u64, p: u64, end: u64) -> bool {
+        let inside = &win[..(end - base) as usize];
+        (p + 1..end).any(|q| {
+            matches!(
+                self.chain_len(inside, base, q, true, CHAIN_DEPTH, false),
+                Some((n, _)) if n > CHAIN_DEPTH
+            )
+        })
     }
 
     /// Whether the messages from `q` on frame cleanly for `depth` more messages (or
