@@ -53,13 +53,23 @@ where
         work();
     } else {
         std::thread::scope(|s| {
-            for _ in 1..threads {
-                s.spawn(work);
-            }
+            let helpers: Vec<_> = (1..threads).map(|_| s.spawn(work)).collect();
             work();
+            join_all(helpers);
         });
     }
     results.into_inner().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Joins scoped threads explicitly, passing a panic on. The scope's own join returns
+/// once each thread's closure has, before its thread-local destructors have run
+/// (rust-lang/rust#116179): a caller would find our threads still alive after the
+/// call, and a leak checker finds their destructor lists unfreed.
+pub(crate) fn join_all<T>(handles: Vec<std::thread::ScopedJoinHandle<'_, T>>) -> Vec<T> {
+    handles
+        .into_iter()
+        .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+        .collect()
 }
 
 #[cfg(test)]

@@ -328,11 +328,8 @@ pub(crate) fn load_shared(
                 })
             })
             .collect();
-        handles
-            .into_iter()
-            // A panic in a worker is a bug of this function: pass it on.
-            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .collect()
+        // A panic in a worker is a bug of this function: passed on.
+        crate::parallel::join_all(handles)
     });
     let mut shared = Vec::with_capacity(threads);
     let mut summary: Option<ScanSummary> = None;

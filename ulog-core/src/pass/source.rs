@@ -250,7 +250,7 @@ type Chunk = std::io::Result<(Vec<u8>, usize)>;
 /// [`read_chunks`] with each chunk of `chunk` bytes read on a second thread while the
 /// one before is framed, after `room` bytes kept for what framing still needs of it.
 ///
-/// Returns once the reading thread has returned from its last read. After the end of
+/// Returns once the reading thread has ended. After the end of
 /// the source or a read error it reads no more; when the pass stops earlier (a log
 /// refused at its start, `f` stopping or panicking), the read under way still has to
 /// return: on a file at once, on a pipe or socket that stays open not until bytes
@@ -269,61 +269,82 @@ where
     use std::sync::mpsc::sync_channel;
     std::thread::scope(|s| {
         // Two buffers go round: one framed while the other is read (or waits). Both
-        // channels live in this closure: when it returns, a reader waiting on either
-        // one is let go.
+        // channels go before the reader is joined (or as this closure unwinds): a
+        // reader waiting on either one is let go.
         let (full_tx, full) = sync_channel::<Chunk>(1);
         let (free, free_rx) = sync_channel::<Vec<u8>>(2);
         for _ in 0..2 {
             let _ = free.send(vec![0u8; room + chunk]);
         }
-        let reader = std::thread::Builder::new().name("ulog read-ahead".to_owned());
-        if let Err(e) = reader.spawn_scoped(s, move || fill_chunks(src, room, full_tx, free_rx)) {
-            return Err(ReadError::io(e, Some(0)));
-        }
-        let mut cur = Vec::new();
-        // The file from `base` is `cur[start..end]`, the bytes read so far.
-        let (mut start, mut end, mut base) = (0usize, 0usize, 0u64);
-        let mut eof = false;
-        loop {
-            if driver.run(&cur[start..end], base, eof, f)? != Ran::NeedMore {
-                return Ok(());
-            }
-            // Carry what framing still needs into the next chunk.
-            let read = base + (end - start) as u64;
-            let drop = driver.framer.done_with(base, end - start);
-            let carry = start + drop..end;
-            let (mut next, n) = match full.recv() {
-                Ok(Ok(chunk)) => chunk,
-                Ok(Err(e)) => return Err(ReadError::io(e, Some(read))),
-                // The reader sends until the end or an error: it hung up early only
-                // if `src` panicked (the scope then panics too).
-                Err(_) => {
-                    let e = std::io::Error::other("the reading thread stopped");
-                    return Err(ReadError::io(e, Some(read)));
-                }
-            };
-            let carried = carry.len();
-            if carried <= room {
-                next[room - carried..room].copy_from_slice(&cur[carry]);
-                (start, end) = (room - carried, room + n);
-            } else {
-                let mut joined = Vec::with_capacity(carried + n);
-                joined.extend_from_slice(&cur[carry]);
-                joined.extend_from_slice(&next[room..room + n]);
-                (start, end) = (0, joined.len());
-                let _ = free.try_send(std::mem::replace(&mut next, joined));
-            }
-            base += drop as u64;
-            eof = n == 0;
-            let done = std::mem::replace(&mut cur, next);
-            // Buffers of the reader's size go back to it (a joined one may happen to
-            // be one); others go. (`try_send`: one the reader has no room for goes
-            // too, rather than wait.)
-            if done.len() == room + chunk {
-                let _ = free.try_send(done);
-            }
-        }
+        let builder = std::thread::Builder::new().name("ulog read-ahead".to_owned());
+        let reader = match builder.spawn_scoped(s, move || fill_chunks(src, room, full_tx, free_rx))
+        {
+            Ok(reader) => reader,
+            Err(e) => return Err(ReadError::io(e, Some(0))),
+        };
+        let result = frame_ahead(chunk, room, driver, f, &full, &free);
+        drop((full, free));
+        crate::parallel::join_all(vec![reader]);
+        result
     })
+}
+
+/// The framing side of [`read_ahead_chunks`]: frames each chunk `full` hands over,
+/// carrying what framing still needs into the next, and gives buffers back to `free`.
+fn frame_ahead<F>(
+    chunk: usize,
+    room: usize,
+    driver: &mut Driver,
+    f: &mut F,
+    full: &std::sync::mpsc::Receiver<Chunk>,
+    free: &std::sync::mpsc::SyncSender<Vec<u8>>,
+) -> Result<(), ReadError>
+where
+    F: FnMut(DataRecord<'_>) -> Hand,
+{
+    let mut cur = Vec::new();
+    // The file from `base` is `cur[start..end]`, the bytes read so far.
+    let (mut start, mut end, mut base) = (0usize, 0usize, 0u64);
+    let mut eof = false;
+    loop {
+        if driver.run(&cur[start..end], base, eof, f)? != Ran::NeedMore {
+            return Ok(());
+        }
+        // Carry what framing still needs into the next chunk.
+        let read = base + (end - start) as u64;
+        let drop = driver.framer.done_with(base, end - start);
+        let carry = start + drop..end;
+        let (mut next, n) = match full.recv() {
+            Ok(Ok(chunk)) => chunk,
+            Ok(Err(e)) => return Err(ReadError::io(e, Some(read))),
+            // The reader sends until the end or an error: it hung up early only
+            // if `src` panicked (passed on when it is joined).
+            Err(_) => {
+                let e = std::io::Error::other("the reading thread stopped");
+                return Err(ReadError::io(e, Some(read)));
+            }
+        };
+        let carried = carry.len();
+        if carried <= room {
+            next[room - carried..room].copy_from_slice(&cur[carry]);
+            (start, end) = (room - carried, room + n);
+        } else {
+            let mut joined = Vec::with_capacity(carried + n);
+            joined.extend_from_slice(&cur[carry]);
+            joined.extend_from_slice(&next[room..room + n]);
+            (start, end) = (0, joined.len());
+            let _ = free.try_send(std::mem::replace(&mut next, joined));
+        }
+        base += drop as u64;
+        eof = n == 0;
+        let done = std::mem::replace(&mut cur, next);
+        // Buffers of the reader's size go back to it (a joined one may happen to
+        // be one); others go. (`try_send`: one the reader has no room for goes
+        // too, rather than wait.)
+        if done.len() == room + chunk {
+            let _ = free.try_send(done);
+        }
+    }
 }
 
 /// The reading thread of [`read_ahead_chunks`]: reads into the buffers it is given,
