@@ -660,3 +660,53 @@ fn corruptions_of_real_logs_keep_every_row_pyulog_keeps() {
     // pyulog raising on a damaged log is no comparison: most must be compared.
     assert!(compared >= 60, "only {compared} compared: {refused:#?}");
 }
+
+/// A reader that hands out one byte per read, so that framing sees every window size.
+struct OneByte<'a>(&'a [u8]);
+
+impl std::io::Read for OneByte<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.0.len()).min(1);
+        buf[..n].copy_from_slice(&self.0[..n]);
+        self.0 = &self.0[n..];
+        Ok(n)
+    }
+}
+
+/// A message too short for its type that ends exactly at the appended offset, read in
+/// pieces: framing judges such a header before it has the message's bytes and knew its
+/// end was a message boundary (the offset), and looking inside it for messages it
+/// spans read past the bytes it had (a panic, found reviewing the change that added
+/// that look). It now waits for the bytes, and reads what the whole-file parse reads.
+#[test]
+fn a_short_message_ending_at_the_appended_offset_reads_the_same_in_pieces() {
+    let build = |appended: u64| {
+        let mut b = LogBuilder::new(1, 0);
+        b.flag_bits([0; 8], [1, 0, 0, 0, 0, 0, 0, 0], [appended, 0, 0]);
+        b.format(FORMAT);
+        b.subscribe(0, 0, "t");
+        for i in 0..5u64 {
+            b.data(0, &row(i));
+        }
+        // A logged string of 5 bytes: its level and timestamp alone take 9.
+        b.garbage(&[5, 0, b'L', b'6', 1, 2, 3, 4]);
+        let at = b.bytes().len() as u64;
+        for i in 6..10u64 {
+            b.data(0, &row(i));
+        }
+        (b.into_bytes(), at)
+    };
+    let (_, at) = build(0);
+    let (bytes, again) = build(at);
+    assert_eq!(at, again);
+    let log = ULog::parse(&bytes).unwrap();
+    let mut rows = 0;
+    let summary = ulog_core::scan(
+        ulog_core::Source::reader(OneByte(&bytes)),
+        &ulog_core::ScanOptions::default(),
+        |_| rows += 1,
+    )
+    .unwrap();
+    assert_eq!(rows, rows_of(&log), "{:?}", log.findings());
+    assert_eq!(summary.messages, log.message_count());
+}

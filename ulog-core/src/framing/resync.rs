@@ -68,40 +68,43 @@ impl Framer {
             let at_end = usize::from(matches!(bad, Bad::UnknownType(_)));
             match self.chain_valid(win, base, end, eof, CHAIN_DEPTH, at_end) {
                 None => return Some(Step::NeedMore),
-                // A bad message has nothing but the chain after it to vouch for its
-                // size, and landing on a message boundary by chance is likely enough in
-                // a log of small messages: one that spans messages of its own is a
-                // broken header (an unknown type of chance bytes, a key or size field
-                // hit by corruption), and resynchronising keeps what it would swallow.
-                Some(true) if self.spans_a_chain(win, base, p, end) => {}
-                Some(true) => {
-                    let len = 3 + size as u64;
-                    self.finding(self.bad_kind(bad, msg_type), p, len);
-                    self.pos = end;
-                    let record = Record {
-                        offset: p,
-                        msg_type,
-                        size,
-                        sub: None,
-                        unknown: false,
-                    };
-                    return match bad {
-                        Bad::UnknownType(_) => Some(Step::Record(Record {
-                            unknown: true,
-                            ..record
-                        })),
-                        // A data message longer than its format, framed by its own
-                        // size: its first bytes are the format's, kept as a row (the
-                        // readers read the format's size of it), reported above.
-                        Bad::SizeMismatch(id, (full, _), found) if found > full => {
-                            Some(Step::Record(Record {
-                                sub: self.defs.sub_index(id),
+                Some(true) => match self.spans_a_chain(win, base, p, end, eof) {
+                    None => return Some(Step::NeedMore),
+                    // A bad message has nothing but the chain after it to vouch for its
+                    // size, and landing on a message boundary by chance is likely enough in
+                    // a log of small messages: one that spans messages of its own is a
+                    // broken header (an unknown type of chance bytes, a key or size field
+                    // hit by corruption), and resynchronising keeps what it would swallow.
+                    Some(true) => {}
+                    Some(false) => {
+                        let len = 3 + size as u64;
+                        self.finding(self.bad_kind(bad, msg_type), p, len);
+                        self.pos = end;
+                        let record = Record {
+                            offset: p,
+                            msg_type,
+                            size,
+                            sub: None,
+                            unknown: false,
+                        };
+                        return match bad {
+                            Bad::UnknownType(_) => Some(Step::Record(Record {
+                                unknown: true,
                                 ..record
-                            }))
-                        }
-                        _ => None,
-                    };
-                }
+                            })),
+                            // A data message longer than its format, framed by its own
+                            // size: its first bytes are the format's, kept as a row (the
+                            // readers read the format's size of it), reported above.
+                            Bad::SizeMismatch(id, (full, _), found) if found > full => {
+                                Some(Step::Record(Record {
+                                    sub: self.defs.sub_index(id),
+                                    ..record
+                                }))
+                            }
+                            _ => None,
+                        };
+                    }
+                },
                 Some(false) => {
                     // A data message of a known subscription, framed by its own size and
                     // followed by zero bytes (a zero-filled stretch or tail): the message
@@ -257,15 +260,24 @@ impl Framer {
     }
 
     /// Whether a chain of plausible messages (as strict as resynchronising: three
-    /// messages) lies wholly inside the bytes `p + 1..end`, which `win` holds.
-    fn spans_a_chain(&self, win: &[u8], base: u64, p: u64, end: u64) -> bool {
-        let inside = &win[..(end - base) as usize];
-        (p + 1..end).any(|q| {
+    /// messages) lies wholly inside the bytes `p + 1..end`. `None`: those bytes are not
+    /// all in `win` yet (a header too short for its type is judged before them, and its
+    /// end can be known for a boundary, an appended offset, before it is read): the
+    /// caller asks for more.
+    fn spans_a_chain(&self, win: &[u8], base: u64, p: u64, end: u64, eof: bool) -> Option<bool> {
+        let inside = match win.get(..(end - base) as usize) {
+            Some(inside) => inside,
+            // The file ends first: what there is is all there will be.
+            None if eof => win,
+            None => return None,
+        };
+        let inside_end = base + inside.len() as u64;
+        Some((p + 1..inside_end).any(|q| {
             matches!(
                 self.chain_len(inside, base, q, true, CHAIN_DEPTH, false),
                 Some((n, _)) if n > CHAIN_DEPTH
             )
-        })
+        }))
     }
 
     /// Whether the messages from `q` on frame cleanly for `depth` more messages (or
