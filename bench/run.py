@@ -10,7 +10,10 @@ Inputs: the shared corpus is found via $ULOG_CORPUS or ../shared/corpus (relativ
 the repository root); the big logs are built with ../shared/tools/make_big.py
 ($ULOG_BENCH_TOOLS overrides the tools directory) into bench/data/ ($ULOG_BENCH_DATA
 overrides) when absent. Peers: yule_log and px4-ulog are built from crates.io by the
-bench crate; pyulog (`pip install pyulog==1.3.0`) runs `ULog(path)` and `ulog2csv`.
+bench crate; pyulog (`pip install pyulog==1.3.0`) runs `ULog(path)` and `ulog2csv`;
+ulog_cpp, px4-ulog master and flight-review-rs are built from the peers folder
+($ULOG_PEERS or ../shared/peers) by source_peers.py, each skipped with a line saying why
+when it cannot be.
 Wall time and peak RSS come from wait4() on each process. No timing is asserted.
 """
 
@@ -25,6 +28,8 @@ import subprocess
 import sys
 import tempfile
 import time
+
+import source_peers
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BENCH = os.path.join(ROOT, "bench")
@@ -109,7 +114,7 @@ def with_baseline(progs, bins, base):
     out = []
     for p in progs:
         out.append(p)
-        if not p.impl.startswith("ours"):
+        if not p.impl.startswith("ours") or not p.baseline:
             continue
         swap = {bins["ours"]: base["ours"], bins["ulog"]: base["ulog"]}
         if not any(a in swap for a in p.argv):
@@ -202,13 +207,16 @@ class Program:
     """One whole-process command of a workload."""
 
     def __init__(self, workload, impl, argv, out_dir=False, msgs_from_output=False, note="",
-                 versus=None, statuses=(0,)):
+                 versus=None, statuses=(0,), baseline=True):
         self.workload = workload
         # Exit statuses of a successful run (`ulog check`: 1 when the log has warnings).
         self.statuses = statuses
         # The implementation this row's ratio is taken against (default: the
         # workload's first `ours` row).
         self.versus = versus
+        # Whether `--baseline` also runs it built from the baseline checkout (not for
+        # options that checkout may predate).
+        self.baseline = baseline
         self.impl = impl
         self.argv = argv  # a list; "{out}" is replaced by a fresh empty directory
         self.out_dir = out_dir
@@ -249,7 +257,10 @@ def run_once(p, scratch):
         os.remove(rss_file)
         if lines and lines[-1].isdigit():
             rss = int(lines[-1]) * 1024
+    parquet_bytes = None
     if out:
+        parquet_bytes = sum(os.path.getsize(os.path.join(d, f))
+                            for d, _, files in os.walk(out) for f in files if f.endswith(".parquet"))
         shutil.rmtree(out, ignore_errors=True)
     if proc.returncode not in p.statuses:
         raise RuntimeError(
@@ -260,6 +271,8 @@ def run_once(p, scratch):
         if "=" in tok:
             k, v = tok.split("=", 1)
             kv[k] = v
+    if parquet_bytes:
+        kv["parquet_bytes"] = str(parquet_bytes)
     cpu = usage.ru_utime + usage.ru_stime
     return wall, rss, kv, cpu
 
@@ -295,6 +308,7 @@ def measure(progs, runs, scratch):
             "runs": len(s["walls"]),
             "median": statistics.median(s["walls"]),
             "min": min(s["walls"]),
+            "max": max(s["walls"]),
             "cpu": statistics.median(s["cpus"]),
             "rss": max(s["rsss"]),
             "kv": s["kv"],
@@ -305,7 +319,7 @@ def measure(progs, runs, scratch):
     return results
 
 
-def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
+def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
     b = bins
     P = []
     P.append(Program("framing", "floor (header walk)", [b["floor"], path],
@@ -314,6 +328,11 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                      note="ULog::parse on a memory map"))
     P.append(Program("framing", "ours (scan, no index)", [b["ours"], "scan", path],
                      note="scan over a memory map: framing without the index (for reference)"))
+    if "px4_master" in extra:
+        P.append(Program("framing", "px4-ulog master (framing)", [extra["px4_master"], "framing", path],
+                         versus="ours (scan, no index)",
+                         note="LogParser::consume_bytes in 1 MiB reads, data messages counted; "
+                              "ratio against ours (scan, no index)"))
     P.append(Program("generic decode", "ours (stream)", [b["ours"], "decode-stream", path],
                      note="scan of Source::file: read() in 256 KiB chunks, one pass"))
     P.append(Program("generic decode", "ours (stream, read ahead)", [b["ours"], "decode-ahead", path],
@@ -325,6 +344,13 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
                          note="callback, every flattened field"))
         P.append(Program("generic decode", "yule_log 0.4 (raw)", [b["peers"], "yule-raw", path],
                          note="ULogParser, every field"))
+    if "px4_master" in extra:
+        P.append(Program("generic decode", "px4-ulog master (stream)", [extra["px4_master"], "stream", path],
+                         note="the same code as px4-ulog 0.6 (stream), built against master"))
+    if "ulog_cpp" in extra:
+        P.append(Program("generic decode", "ulog_cpp (stream)", [extra["ulog_cpp"], "stream", path],
+                         note="Reader + header-only DataContainer, fread 256 KiB; every field "
+                              "(padding left out) read as a typed Value"))
     P.append(Program("typed decode", "ours (derive)", [b["ours"], "typed", path],
                      msgs_from_output=True,
                      note="sensor_combined + vehicle_attitude: scan_topics over a memory map"))
@@ -343,6 +369,10 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
     if peers:
         P.append(Program("columnar load", "px4-ulog 0.6 (full_parser)", [b["peers"], "px4-full", path],
                          note="full_parser::read_file"))
+    if "ulog_cpp" in extra:
+        P.append(Program("columnar load", "ulog_cpp (DataContainer)", [extra["ulog_cpp"], "load", path],
+                         note="DataContainer(FullLog): every message kept (raw payloads, "
+                              "decoded on access)"))
     if pyulog_ok:
         P.append(Program("columnar load", "pyulog 1.3 ULog(path)",
                          [sys.executable, "-c", "import sys; from pyulog import ULog; ULog(sys.argv[1])", path],
@@ -366,6 +396,14 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset):
             P.append(Program("Parquet export", "ours (ulog parquet, 1 core)",
                              [taskset, "-c", "0", b["ulog"], "parquet", path, "-o", "{out}"],
                              out_dir=True, note="taskset -c 0"))
+        P.append(Program("Parquet export", "ours (ulog parquet, zstd)",
+                         [b["ulog"], "parquet", path, "-o", "{out}", "--compression", "zstd"],
+                         out_dir=True, note="--compression zstd (level 1)", baseline=False))
+    if "flight_review" in extra:
+        P.append(Program("Parquet export", "flight-review-rs (ulog-convert)",
+                         [extra["flight_review"], path, "{out}"], out_dir=True,
+                         versus="ours (ulog parquet, zstd)" if parquet else None,
+                         note="ZSTD Parquet + metadata.json, rayon; ratio against ours (zstd)"))
     return P
 
 
@@ -425,8 +463,8 @@ def fmt_s(x):
 def table(results, size, msgs):
     """Markdown rows for one input: time, throughput, RSS, ratio to ours."""
     lines = [
-        "| workload | implementation | runs | median s | CPU s | MB/s | M msg/s | peak RSS MiB | × ours (time) | how |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| workload | implementation | runs | median s | spread | CPU s | MB/s | M msg/s | peak RSS MiB | × ours (time) | how |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     ours_by_workload = {}
     by_impl = {(p.workload, p.impl): r["median"] for p, r in results if r}
@@ -435,7 +473,7 @@ def table(results, size, msgs):
             ours_by_workload[p.workload] = r["median"]
     for p, r in results:
         if r is None:
-            lines.append(f"| {p.workload} | {p.impl} | – | failed | | | | | | {p.note} |")
+            lines.append(f"| {p.workload} | {p.impl} | – | failed | | | | | | | {p.note} |")
             continue
         t = r["median"]
         m = int(r["kv"].get("messages", 0)) if p.msgs_from_output else msgs
@@ -445,9 +483,13 @@ def table(results, size, msgs):
             ratio = f"{t / by_impl[(p.workload, p.versus)]:.2f}"
         if p.workload == "framing" and p.impl.startswith("floor") and "framing" in ours_by_workload:
             ratio = f"{t / ours_by_workload['framing']:.2f}"
+        note = p.note
+        if "parquet_bytes" in r["kv"]:
+            note = (note + "; " if note else "") + f"output {int(r['kv']['parquet_bytes']) / 1e6:,.1f} MB of Parquet"
         lines.append(
-            f"| {p.workload} | {p.impl} | {r['runs']} | {fmt_s(t)} | {fmt_s(r['cpu'])} | {size / t / 1e6:,.0f} | "
-            f"{m / t / 1e6:.1f} | {r['rss'] / 2**20:,.1f} | {ratio} | {p.note} |"
+            f"| {p.workload} | {p.impl} | {r['runs']} | {fmt_s(t)} | {(r['max'] - r['min']) / t:.0%} | "
+            f"{fmt_s(r['cpu'])} | {size / t / 1e6:,.0f} | "
+            f"{m / t / 1e6:.1f} | {r['rss'] / 2**20:,.1f} | {ratio} | {note} |"
         )
     return lines
 
@@ -503,7 +545,31 @@ def targets(results, size):
         ratio("Parquet export on 2 cores ≥ 1.6 × faster than on 1",
               t("ours (ulog parquet, 1 core)"), t("ours (ulog parquet)"), 1.6, le=False)
         ratio("Parquet export peak RSS ≤ 2 × file size + 320 MiB", rss("ours (ulog parquet)"), bound, 1.0)
+        ratio("Parquet export peak RSS ≤ 0.5 × file size", rss("ours (ulog parquet)"), size, 0.5)
+    # The peers built from source (source_peers.py).
+    ratio("Parquet export (zstd) ≤ 0.33 × flight-review-rs ulog-convert",
+          t("ours (ulog parquet, zstd)"), t("flight-review-rs (ulog-convert)"), 0.33)
+    a, b = out_bytes(med.get("ours (ulog parquet, zstd)")), out_bytes(med.get("flight-review-rs (ulog-convert)"))
+    if a and b:
+        out.append(("Parquet (zstd) files within ±20 % of flight-review-rs's size",
+                    f"{a / b:.3f}×", 0.8 <= a / b <= 1.2))
+    else:
+        out.append(("Parquet (zstd) files within ±20 % of flight-review-rs's size", "not measured", None))
+    ratio("generic decode (stream) ≤ 0.5 × ulog_cpp stream", t("ours (stream)"), t("ulog_cpp (stream)"), 0.5)
+    ratio("columnar load ≤ 0.2 × ulog_cpp DataContainer load", t("ours (2 threads)"),
+          t("ulog_cpp (DataContainer)"), 0.2)
+    ratio("framing (scan, no index) ≤ px4-ulog master framing", t("ours (scan, no index)"),
+          t("px4-ulog master (framing)"), 1.0)
+    ratio("generic decode (stream) ≤ 0.5 × px4-ulog master stream", t("ours (stream)"),
+          t("px4-ulog master (stream)"), 0.5)
     return out
+
+
+def out_bytes(r):
+    """Bytes of Parquet a program wrote (its last run), or None."""
+    if not r or "parquet_bytes" not in r["kv"]:
+        return None
+    return int(r["kv"]["parquet_bytes"])
 
 
 def main():
@@ -532,6 +598,10 @@ def main():
     else:
         bins = build(peers, profile)
     base = build_baseline(args.baseline, profile) if args.baseline else None
+    extra, extra_skipped = ({}, ["peers from source: skipped (--no-peers)"])
+    if peers:
+        extra, extra_skipped = source_peers.build(
+            ROOT, BENCH, os.path.join(target_dir(os.path.join(BENCH, "target")), "peers"), args.smoke)
 
     if args.inputs:
         inputs = [(os.path.basename(p), os.path.abspath(p)) for p in args.inputs]
@@ -563,7 +633,8 @@ def main():
         "process, run on the same input in the same session. *median s*: median wall time of "
         f"the runs (default {runs}; a program slower than {SLOW_SECONDS:.0f} s on its first run runs "
         f"at most {SLOW_RUNS} times), run in rounds: every program of an input once, in turn, then "
-        "again, so that a slow spell of the machine falls on all of them; *MB/s*: input bytes (10⁶) per second; *M msg/s*: messages of "
+        "again, so that a slow spell of the machine falls on all of them; *spread*: (slowest − fastest run) / median, "
+        "the run-to-run spread a difference must exceed to mean anything; *MB/s*: input bytes (10⁶) per second; *M msg/s*: messages of "
         "the file per second (for the typed workloads: the messages decoded); *CPU s*: median "
         "user + system time of the process (less sensitive than wall time to other load on "
         "the machine); *peak RSS*: "
@@ -579,6 +650,11 @@ def main():
     doc += ["## Machine", "", "| | |", "|---|---|"]
     doc += [f"| {k} | {v} |" for k, v in machine(args.note)]
     doc.append("")
+    if extra or extra_skipped:
+        doc += ["Peers built from source (`bench/source_peers.py`, the peers folder): "
+                + (", ".join(sorted(extra)) if extra else "none") + "."]
+        doc += [f"- {why}" for why in extra_skipped]
+        doc.append("")
 
     all_targets = []
     failures = 0
@@ -593,7 +669,7 @@ def main():
         settle_page_cache(path)
         # Count the messages (our framing).
         msgs = int(run_once(Program("", "", [bins["ours"], "framing", path]), scratch)[2]["messages"])
-        progs = programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset)
+        progs = programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra)
         if base:
             progs = with_baseline(progs, bins, base)
         measured = measure(progs, runs, scratch)

@@ -68,6 +68,8 @@ pub struct Args {
 enum Codec {
     /// Snappy: fast, read by every engine.
     Snappy,
+    /// Zstandard (level 1): smaller files, for keeping; read by every current engine.
+    Zstd,
     /// No compression.
     None,
 }
@@ -100,6 +102,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         topics: names.clone(),
         compression: match args.compression {
             Codec::Snappy => Compression::Snappy,
+            Codec::Zstd => Compression::Zstd,
             Codec::None => Compression::Uncompressed,
         },
         ..Options::default()

@@ -188,3 +188,66 @@ fn a_directory_of_logs_converts_in_one_call_in_parallel_or_not() {
     assert!(stderr_line(&out).contains("would be written here"));
     assert!(!out_dir.exists());
 }
+
+#[test]
+fn each_codec_is_what_the_files_say_and_the_values_are_the_same() {
+    use ulog_core::export::parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    use ulog_core::export::parquet::basic::Compression;
+    use ulog_core::export::parquet::file::reader::{FileReader, SerializedFileReader};
+
+    let log = common::sample_file("parquet_codecs");
+    let root = log.parent().unwrap().to_owned();
+    let mut batches = Vec::new();
+    let mut sizes = Vec::new();
+    for codec in ["snappy", "zstd", "none"] {
+        let out_dir = root.join(codec);
+        common::ulog_ok([
+            "parquet".as_ref(),
+            log.as_os_str(),
+            "-o".as_ref(),
+            out_dir.as_os_str(),
+            "--compression".as_ref(),
+            codec.as_ref(),
+        ]);
+        let dir = out_dir.join("sample");
+        let mut read = Vec::new();
+        let mut bytes = 0;
+        for (name, data) in tree(&dir) {
+            if !name.ends_with(".parquet") {
+                continue;
+            }
+            bytes += data.len();
+            let path = dir.join(&name);
+            // The codec the parquet crate's reader finds in every column chunk.
+            let reader = SerializedFileReader::new(std::fs::File::open(&path).unwrap()).unwrap();
+            for group in reader.metadata().row_groups() {
+                for column in group.columns() {
+                    let found = column.compression();
+                    let expected = match codec {
+                        "snappy" => matches!(found, Compression::SNAPPY),
+                        "zstd" => matches!(found, Compression::ZSTD(_)),
+                        _ => matches!(found, Compression::UNCOMPRESSED),
+                    };
+                    assert!(expected, "{codec}: {name}: {found:?}");
+                }
+            }
+            let rows: Vec<_> =
+                ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&path).unwrap())
+                    .unwrap()
+                    .build()
+                    .unwrap()
+                    .collect::<Result<_, _>>()
+                    .unwrap();
+            read.push((name, rows));
+        }
+        assert!(!read.is_empty());
+        batches.push(read);
+        sizes.push(bytes);
+    }
+    assert_eq!(batches[0], batches[1], "zstd reads back as snappy does");
+    assert_eq!(
+        batches[0], batches[2],
+        "uncompressed reads back as snappy does"
+    );
+    assert!(sizes[1] < sizes[2], "zstd {} < none {}", sizes[1], sizes[2]);
+}

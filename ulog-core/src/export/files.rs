@@ -260,6 +260,7 @@ fn write_table(
     let compression = match options.compression {
         Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
         Compression::Snappy => ParquetCompression::SNAPPY,
+        Compression::Zstd => ParquetCompression::ZSTD(Default::default()),
     };
     let mut metadata: Vec<KeyValue> = table
         .schema

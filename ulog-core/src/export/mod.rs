@@ -80,6 +80,9 @@ pub enum Compression {
     /// Snappy (fast; read by every Parquet engine).
     #[default]
     Snappy,
+    /// Zstandard at the Parquet writer's default level (1): smaller files than Snappy,
+    /// for keeping; read by every current engine (DuckDB, DataFusion, Polars, Spark).
+    Zstd,
 }
 
 /// What to export, and how.
