@@ -578,7 +578,7 @@ def main():
                     help="one run on a small corpus log; table to a temp file unless --out")
     ap.add_argument("--runs", type=int, help="runs per program (default 5; 1 with --smoke)")
     ap.add_argument("--out", help="where to write the table (default BENCHMARKS.md at the root)")
-    ap.add_argument("--no-peers", action="store_true", help="skip yule_log and px4-ulog (pyulog still runs)")
+    ap.add_argument("--no-peers", action="store_true", help="skip the peers (yule_log, px4-ulog, ulog_cpp, flight-review-rs); pyulog still runs")
     ap.add_argument("--no-build", action="store_true", help="use the programs already built")
     ap.add_argument("--note", default="", help="a note for the machine section (e.g. the machine was shared)")
     ap.add_argument("--baseline", metavar="DIR",

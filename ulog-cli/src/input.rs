@@ -8,7 +8,9 @@ use ulog_core::{LogFile, ReadError, ULog};
 
 use crate::failure::{io_text, Failure, Status};
 
-/// Maps the file at `path`; a missing, unreadable or directory path is a failure.
+/// Reads the file at `path` into memory ([`LogFile::open`]: a copy, so that a file
+/// that changes meanwhile cannot kill the process); a missing, unreadable or directory
+/// path is a failure.
 pub fn open(path: &Path) -> Result<LogFile, Failure> {
     let shown = path.display();
     let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
