@@ -61,9 +61,11 @@ double sum_field(const Value& value, const Field& field)
   if (field.arrayLength() < 0) {
     return value.as<double>();
   }
+  // Element by element: about 0.94x the time of `as<std::vector<double>>()`, which
+  // allocates a vector per array (5 interleaved pairs, sample_px4_events x 200).
   double sum = 0;
-  for (double x : value.as<std::vector<double>>()) {
-    sum += x;
+  for (int i = 0; i < field.arrayLength(); i++) {
+    sum += value[static_cast<size_t>(i)].as<double>();
   }
   return sum;
 }
@@ -113,31 +115,33 @@ class Summing : public ulog_cpp::DataContainer {
   unsigned next = 0;
 };
 
-bool read_all(const char* path, ulog_cpp::Reader& reader)
+// Feeds the file to a Reader over `container` in 256 KiB reads; false (said on stderr)
+// when the file cannot be opened or ulog_cpp reports a fatal parsing error.
+bool read_all(const char* path, const std::shared_ptr<ulog_cpp::DataContainer>& container)
 {
   FILE* file = std::fopen(path, "rb");
   if (file == nullptr) {
     std::fprintf(stderr, "cannot open %s\n", path);
     return false;
   }
+  ulog_cpp::Reader reader{container};
   std::vector<uint8_t> buffer(256 * 1024);
   size_t n;
   while ((n = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
     reader.readChunk(buffer.data(), static_cast<int>(n));
   }
   std::fclose(file);
+  if (container->hadFatalError()) {
+    std::fprintf(stderr, "ulog_cpp: fatal parsing error\n");
+    return false;
+  }
   return true;
 }
 
 int stream(const char* path)
 {
   auto container = std::make_shared<Summing>();
-  ulog_cpp::Reader reader{container};
-  if (!read_all(path, reader)) {
-    return 1;
-  }
-  if (container->hadFatalError()) {
-    std::fprintf(stderr, "ulog_cpp: fatal parsing error\n");
+  if (!read_all(path, container)) {
     return 1;
   }
   double sum = 0;
@@ -152,12 +156,7 @@ int load(const char* path)
 {
   auto container =
       std::make_shared<ulog_cpp::DataContainer>(ulog_cpp::DataContainer::StorageConfig::FullLog);
-  ulog_cpp::Reader reader{container};
-  if (!read_all(path, reader)) {
-    return 1;
-  }
-  if (container->hadFatalError()) {
-    std::fprintf(stderr, "ulog_cpp: fatal parsing error\n");
+  if (!read_all(path, container)) {
     return 1;
   }
   unsigned long long messages = 0;

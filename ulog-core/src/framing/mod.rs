@@ -43,6 +43,17 @@ pub(crate) struct Record {
 }
 
 impl Record {
+    /// A message framed at `offset`, not (yet) tied to a subscription.
+    pub fn framed(offset: u64, msg_type: u8, size: u16) -> Record {
+        Record {
+            offset,
+            msg_type,
+            size,
+            sub: None,
+            unknown: false,
+        }
+    }
+
     pub fn end(&self) -> u64 {
         self.offset + MESSAGE_HEADER_SIZE as u64 + self.size as u64
     }
@@ -177,11 +188,8 @@ impl Framer {
         let offset = self.pos;
         self.pos = base + end as u64;
         Some(Record {
-            offset,
-            msg_type: b'D',
-            size: (end - rel - MESSAGE_HEADER_SIZE) as u16,
             sub: Some(entry.sub),
-            unknown: false,
+            ..Record::framed(offset, b'D', (end - rel - MESSAGE_HEADER_SIZE) as u16)
         })
     }
 
@@ -306,13 +314,7 @@ impl Framer {
                     let rel = (p - base) as usize;
                     let msg_type = win[rel + 2];
                     self.phase = Phase::Messages;
-                    let record = Record {
-                        offset: p,
-                        msg_type,
-                        size,
-                        sub: None,
-                        unknown: false,
-                    };
+                    let record = Record::framed(p, msg_type, size);
                     self.pos = record.end();
                     let payload = &win[rel + 3..rel + 3 + size as usize];
                     if !self.in_definitions {

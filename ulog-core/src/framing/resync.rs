@@ -77,16 +77,9 @@ impl Framer {
                     // hit by corruption), and resynchronising keeps what it would swallow.
                     Some(true) => {}
                     Some(false) => {
-                        let len = 3 + size as u64;
-                        self.finding(self.bad_kind(bad, msg_type), p, len);
+                        self.finding(self.bad_kind(bad, msg_type), p, end - p);
                         self.pos = end;
-                        let record = Record {
-                            offset: p,
-                            msg_type,
-                            size,
-                            sub: None,
-                            unknown: false,
-                        };
+                        let record = Record::framed(p, msg_type, size);
                         return match bad {
                             Bad::UnknownType(_) => Some(Step::Record(Record {
                                 unknown: true,
@@ -121,7 +114,7 @@ impl Framer {
                             if seen.len() < ZEROS_AFTER_MISMATCH && !eof {
                                 return Some(Step::NeedMore);
                             }
-                            self.finding(self.bad_kind(bad, msg_type), p, 3 + size as u64);
+                            self.finding(self.bad_kind(bad, msg_type), p, end - p);
                             self.pos = end;
                             return None;
                         }
