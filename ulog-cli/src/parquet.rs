@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use ulog_core::export::{self, Compression, ExportErrorKind, Options};
-use ulog_core::LookupError;
+use ulog_core::read::ReadErrorKind;
+use ulog_core::{LookupError, ReadError};
 
 use crate::failure::{io_text, stdout_err, Failure, Status};
 use crate::input;
@@ -25,10 +26,10 @@ use crate::progress::Progress;
 /// is a string without its trailing NULs, one character per byte (ISO 8859-1, so no
 /// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
 ///
-/// Several logs are converted in parallel, each by one thread; the topics of a single
-/// log are written in parallel. A log that cannot be
-/// read or converted is reported (one line) and the others go on; the exit status is
-/// then that of the first failure, in the order given.
+/// Several logs are converted in parallel, each by one thread; a single log is read
+/// once, in chunks (never held whole), its row groups encoded in parallel as it goes.
+/// A log that cannot be read or converted is reported (one line) and the others go
+/// on; the exit status is then that of the first failure, in the order given.
 #[derive(Debug, clap::Args)]
 #[command(
     about = "Logs to Parquet files (one per topic instance) for query engines",
@@ -58,7 +59,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "snappy", value_name = "CODEC")]
     compression: Codec,
     /// Threads (default: the number of CPUs): logs converted at the same time, or,
-    /// for a single log, topics written at the same time.
+    /// for a single log, row groups encoded at the same time.
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<NonZeroUsize>,
 }
@@ -263,52 +264,56 @@ fn convert(
     let name = job.input.display().to_string();
     let mut advanced = 0u64;
     let result = (|| {
-        let file = input::open(&job.input)?;
-        let log = input::parse(&name, file.bytes())?;
         progress.message(name.clone());
         let mut options = options.clone();
+        options.skip_missing_topics = !strict;
         let mut done = Done {
             found: Vec::new(),
             suggestion: None,
         };
-        if let Some(names) = &options.topics {
-            let (found, missing): (Vec<String>, Vec<String>) = names
-                .iter()
-                .cloned()
-                .partition(|n| !log.topic_instances(n).is_empty());
-            done.suggestion = missing.iter().find_map(|n| match log.topic(n, 0) {
-                Err(LookupError::Topic(t)) => t.closest.into_iter().next(),
-                _ => None,
-            });
-            if !strict {
-                if found.is_empty() {
-                    progress.suspend(|| {
-                        let mut out = stdout.lock().expect("no thread panicked holding it");
-                        writeln!(out, "Skipping {name}: it has none of the topics")
-                            .map_err(stdout_err)
-                    })?;
-                    return Ok(done);
-                }
-                options.topics = Some(found.clone());
+        let source = ulog_core::Source::file(&job.input);
+        let export = export::write_parquet_with(source, &job.out, &options, |read| {
+            let read = read.min(job.size);
+            if read > advanced {
+                progress.inc(read - advanced);
+                advanced = read;
             }
-            done.found = found;
+        });
+        let export = match export {
+            Ok(export) => export,
+            Err(e) => {
+                if let ExportErrorKind::Lookup(LookupError::Topic(t)) = e.kind() {
+                    done.suggestion = t.closest.first().cloned();
+                    if !strict {
+                        // The log has none of the names.
+                        progress.suspend(|| {
+                            let mut out = stdout.lock().expect("no thread panicked holding it");
+                            writeln!(out, "Skipping {name}: it has none of the topics")
+                                .map_err(stdout_err)
+                        })?;
+                        return Ok(done);
+                    }
+                }
+                return Err(failure(&name, &e));
+            }
+        };
+        if let Some(names) = &options.topics {
+            for missing in &export.missing_topics {
+                if let LookupError::Topic(t) = missing {
+                    done.suggestion = done.suggestion.take().or(t.closest.first().cloned());
+                }
+            }
+            done.found = names
+                .iter()
+                .filter(|n| {
+                    !export
+                        .missing_topics
+                        .iter()
+                        .any(|m| matches!(m, LookupError::Topic(t) if &t.name == *n))
+                })
+                .cloned()
+                .collect();
         }
-        let export = export::write_parquet_with(&log, &job.out, &options, |w| {
-            let bytes = log
-                .topic(&w.topic, w.multi_id)
-                .ok()
-                .and_then(|t| t.payload(0).map(|p| (p.len() as u64 + 5) * t.len() as u64))
-                .unwrap_or(0)
-                .min(job.size - advanced);
-            advanced += bytes;
-            progress.inc(bytes);
-        })
-        .map_err(|e| match e.kind() {
-            ExportErrorKind::Lookup(LookupError::Topic(_)) => Failure::unknown_name(&name, &e),
-            // The text names the file that could not be written.
-            ExportErrorKind::Io(_) => Failure::Message(Status::Io, e.to_string()),
-            _ => Failure::about(&name, &e),
-        })?;
         let rows: usize = export.files.iter().map(|w| w.rows).sum();
         progress.suspend(|| -> Result<(), Failure> {
             let mut err = io::stderr();
@@ -334,6 +339,26 @@ fn convert(
     })();
     progress.inc(job.size - advanced);
     result
+}
+
+/// The failure of an export of the log `name`.
+fn failure(name: &str, e: &export::ExportError) -> Failure {
+    match e.kind() {
+        ExportErrorKind::Lookup(LookupError::Topic(_)) => Failure::unknown_name(name, e),
+        // The text names the file that could not be written.
+        ExportErrorKind::Io(_) => Failure::Message(Status::Io, e.to_string()),
+        ExportErrorKind::Read => {
+            let read = std::error::Error::source(e).and_then(|s| s.downcast_ref::<ReadError>());
+            match read {
+                Some(r) if matches!(r.kind(), ReadErrorKind::Io(_)) => {
+                    Failure::unreadable(name, input::error_text(r))
+                }
+                Some(r) => Failure::new(Status::Refused, name, input::error_text(r)),
+                None => Failure::about(name, e),
+            }
+        }
+        _ => Failure::about(name, e),
+    }
 }
 
 #[cfg(test)]

@@ -436,3 +436,59 @@ fn flattened_parquet_has_pyulogs_columns_and_the_readers_values() {
         true,
     );
 }
+
+/// The library's export read from each corpus file in chunks (never held whole), with
+/// a buffer budget far below the logs' sizes and three writing threads: the row
+/// groups are cut by the budget, and every value is still the reader's; the metadata
+/// file, built from the messages kept as the pass went by, is the text that the
+/// parsed log gives.
+#[test]
+fn export_in_one_pass_under_a_small_budget_keeps_every_value_and_the_metadata() {
+    use ulog_core::export::{self, Options};
+    let corpus = common::corpus();
+    let out = common::scratch("export_in_one_pass_under_a_small_budget");
+    let options = Options {
+        buffer_bytes: 256 << 10,
+        threads: 3,
+        ..Options::default()
+    };
+    let mut cut_by_budget = 0;
+    for (stem, path) in common::corpus_logs(&corpus) {
+        let bytes = std::fs::read(&path).expect("read log");
+        let log = ULog::parse(&bytes).expect("corpus logs parse");
+        let dir = out.join(&stem);
+        let source = ulog_core::Source::file(&path);
+        let export = export::write_parquet(source, &dir, &options).expect("export");
+        assert!(export.skipped.is_empty(), "{stem}: {:?}", export.skipped);
+        let mut topics: Vec<_> = log.topics().filter(|t| !t.is_empty()).collect();
+        topics.sort_by_key(|t| (t.name(), t.multi_id(), t.subscription().index()));
+        assert_eq!(export.files.len(), topics.len(), "{stem}: files");
+        for (topic, written) in topics.iter().zip(&export.files) {
+            assert_eq!(
+                (written.topic.as_str(), written.multi_id, written.rows),
+                (topic.name(), topic.multi_id(), topic.len()),
+                "{stem}"
+            );
+            check_topic(&stem, topic, &written.path, false);
+            let file = std::fs::File::open(&written.path).unwrap();
+            let groups = ParquetRecordBatchReaderBuilder::try_new(file)
+                .unwrap()
+                .metadata()
+                .num_row_groups();
+            // A topic of fewer bytes than the budget, cut into several groups.
+            let row = topic.layout().unwrap().size();
+            if groups > 1 && row * topic.len() < (16 << 20) {
+                cut_by_budget += 1;
+            }
+        }
+        let metadata = std::fs::read_to_string(&export.metadata).unwrap();
+        assert!(
+            metadata == export::metadata_json(&log),
+            "{stem}: metadata.json differs from the parsed log's"
+        );
+    }
+    assert!(
+        cut_by_budget > 10,
+        "{cut_by_budget} topics cut by the budget"
+    );
+}

@@ -21,11 +21,11 @@ use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef};
 use ulog_format::{BasicType, LayoutField, LayoutType};
 
 use super::error::{ExportError, ExportErrorKind};
-use crate::access::field::FieldShape;
-use crate::access::topic::Topic;
+use crate::access::field::{FieldReader, FieldShape};
+use crate::access::lookup::LookupError;
+use crate::definitions::Subscription;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
-use crate::log::offsets::MessageOffsets;
 
 use super::{latin1, Options};
 
@@ -188,8 +188,8 @@ pub(crate) struct TopicTable {
 impl TopicTable {
     /// Compiles the schema of `topic`: nested (one column per top-level field) or
     /// flattened to pyulog's columns.
-    pub(crate) fn new(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
-        let layout = topic.layout()?;
+    pub(crate) fn new(topic: &Subscription, options: &Options) -> Result<TopicTable> {
+        let layout = topic.layout().map_err(|e| LookupError::layout(topic, e))?;
         let ts = topic.timestamp_field();
         // One metadata entry per field: Arrow writes metadata maps in hash order, and
         // one entry keeps the files byte for byte the same from run to run.
@@ -203,7 +203,7 @@ impl TopicTable {
             }
         };
         let (fields, columns) = if options.flatten {
-            let mut readers = topic.fields()?;
+            let mut readers = FieldReader::all(layout);
             // pyulog's tables (and ulog2csv) put `timestamp` first.
             if let Some(i) = readers.iter().position(|r| r.path() == "timestamp") {
                 let t = readers.remove(i);
@@ -253,21 +253,26 @@ impl TopicTable {
         })
     }
 
-    /// The record batch of `payloads` (rows of the topic, in order), at file offsets
-    /// `offsets` (for errors).
+    /// The bytes of a payload that the columns read (those before are all a row needs).
+    pub(crate) fn needed(&self) -> usize {
+        self.needed
+    }
+
+    /// The record batch of `payloads` (rows of the topic, in order); `offset` gives the
+    /// file offset of a row (for errors).
     pub(crate) fn batch(
         &self,
         payloads: &[&[u8]],
-        offsets: MessageOffsets<'_>,
+        offset: impl Fn(usize) -> u64,
     ) -> Result<RecordBatch> {
-        for (p, o) in payloads.iter().zip(offsets) {
+        for (i, p) in payloads.iter().enumerate() {
             if p.len() < self.needed {
                 return Err(ExportError::new(ExportErrorKind::ShortPayload {
                     topic: self.name.clone(),
                     needed: self.needed,
                     found: p.len(),
                 })
-                .at(o));
+                .at(offset(i)));
             }
         }
         let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();

@@ -30,6 +30,9 @@ pub enum ExportErrorKind {
         /// The payload's length.
         found: usize,
     },
+    /// The log could not be read: not a ULog file, refused, or a read failed (the
+    /// [`ReadError`](crate::ReadError) is the [`source`](std::error::Error::source)).
+    Read,
     /// Arrow or Parquet refused the data (its error is the
     /// [`source`](std::error::Error::source)).
     Encoding,
@@ -76,6 +79,15 @@ impl ExportError {
             kind: ExportErrorKind::Encoding,
             path: None,
             position: None,
+            source: Some(Arc::new(e)),
+        })
+    }
+
+    pub(crate) fn read(e: crate::ReadError) -> ExportError {
+        ExportError::from_inner(Inner {
+            kind: ExportErrorKind::Read,
+            path: None,
+            position: e.position(),
             source: Some(Arc::new(e)),
         })
     }
@@ -135,9 +147,15 @@ impl fmt::Display for ExportError {
             write!(f, "{}: ", p.display())?;
         }
         match (&e.kind, &e.source) {
-            (ExportErrorKind::Io(_) | ExportErrorKind::Encoding, Some(e)) => write!(f, "{e}"),
+            (
+                ExportErrorKind::Io(_) | ExportErrorKind::Encoding | ExportErrorKind::Read,
+                Some(e),
+            ) => {
+                write!(f, "{e}")
+            }
             (ExportErrorKind::Io(k), None) => write!(f, "i/o error: {k}"),
             (ExportErrorKind::Encoding, None) => write!(f, "Arrow or Parquet refused the data"),
+            (ExportErrorKind::Read, None) => write!(f, "the log could not be read"),
             (ExportErrorKind::Lookup(e), _) => write!(f, "{e}"),
             (ExportErrorKind::NoValues { topic }, _) => {
                 write!(f, "topic `{topic}` has no field with values")

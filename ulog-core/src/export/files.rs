@@ -15,11 +15,12 @@ use super::error::{ExportError, ExportErrorKind};
 use crate::access::topic::Topic;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
-use crate::log::ulog::ULog;
+use crate::access::lookup::LookupError;
+use crate::pass::source::Source;
 
 use super::arrow::TopicTable;
 use super::leaves::LeafWriter;
-use super::{file_name, selected_topics, write_metadata, Compression, Options, METADATA_FILE};
+use super::{Compression, Options};
 
 /// A Parquet file written for a topic instance.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,154 +50,68 @@ pub struct Skipped {
 /// What [`write_parquet`] wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Export {
-    /// The Parquet files, in the order of [`super::selected_topics`].
+    /// The Parquet files, sorted by topic name and instance.
     pub files: Vec<Written>,
-    /// Topic instances with data that could not be exported.
+    /// Topic instances with data that could not be exported, sorted the same way.
     pub skipped: Vec<Skipped>,
+    /// The names of [`Options::topics`] the log does not have (with
+    /// [`Options::skip_missing_topics`]; otherwise such a name is an error).
+    pub missing_topics: Vec<LookupError>,
     /// The metadata file.
     pub metadata: PathBuf,
 }
 
-/// Writes every selected topic instance of `log` (see [`super::selected_topics`]) to
-/// its own Parquet file in `dir` (created when missing), named by [`super::file_name`],
-/// and the metadata file [`METADATA_FILE`]. Files of those names already there are
-/// replaced; other files in `dir` are left as they are.
+/// Writes a log to `dir` (created when missing): every selected topic instance with
+/// data to its own Parquet file, named by [`super::file_name`], and the metadata file
+/// [`METADATA_FILE`](super::METADATA_FILE). Files of those names already there are replaced; other files in
+/// `dir` are left as they are.
 ///
-/// A topic whose format cannot be laid out, or that has no field with values, is
-/// left out and listed in [`Export::skipped`]. Errors: a topic of
-/// [`Options::topics`] that is not in the log (before anything is written), and
-/// failures to write.
+/// The log is read once, in file order, from any [`Source`]: a file or reader
+/// ([`Source::file`], [`Source::reader`]) is read in chunks and never held whole;
+/// each topic's rows are held until a row group of them is full (16 MiB of payload or
+/// [`Options::row_group_rows`]), or until the rows held by all topics pass
+/// [`Options::buffer_bytes`], when the topic holding the most is written out. Row
+/// groups are encoded on [`Options::threads`] threads while the log is read, each
+/// topic's in the order they were cut: the files are the same whatever the source
+/// and the number of threads.
+///
+/// A topic whose format cannot be laid out, or that has no field with values, is left
+/// out and listed in [`Export::skipped`]. Errors: a log that cannot be read, a topic
+/// of [`Options::topics`] that is not in the log (unless
+/// [`Options::skip_missing_topics`]), and failures to write. Files are written under
+/// temporary names and renamed when the whole log is done: after an error, no file of
+/// this export is left in `dir` (a file of the same name that a rename had already
+/// replaced is gone too), and the folders it made are removed when empty.
 ///
 /// ```
 /// use ulog_core::export::{self, Options};
 /// let bytes = ulog_core::testing::sample_log();
-/// let log = ulog_core::ULog::parse(&bytes)?;
 /// let dir = std::env::temp_dir().join(format!("ulog-doc-{}", std::process::id()));
-/// let written = export::write_parquet(&log, &dir, &Options::default())?;
+/// let written = export::write_parquet(&bytes, &dir, &Options::default())?;
 /// assert!(written.files.iter().any(|f| f.path.ends_with("battery_status_1.parquet")));
 /// assert!(written.metadata.ends_with("metadata.json"));
 /// # std::fs::remove_dir_all(&dir).unwrap();
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn write_parquet(log: &ULog<'_>, dir: &Path, options: &Options) -> Result<Export> {
-    write_parquet_with(log, dir, options, |_| {})
-}
-
-/// [`write_parquet`], calling `written` after each Parquet file is written (to show
-/// progress; with [`Options::threads`] above 1, from the thread that wrote it, in the
-/// order the files are done).
-pub fn write_parquet_with(
-    log: &ULog<'_>,
+pub fn write_parquet<'s>(
+    source: impl Into<Source<'s>>,
     dir: &Path,
     options: &Options,
-    written: impl FnMut(&Written) + Send,
 ) -> Result<Export> {
-    let topics = selected_topics(log, options)?;
-    std::fs::create_dir_all(dir).map_err(|e| ExportError::io(e, dir))?;
-    let mut jobs = Vec::with_capacity(topics.len());
-    let mut skipped = Vec::new();
-    let mut names = std::collections::HashSet::new();
-    for topic in &topics {
-        // The table is built again when the topic is written: built for every topic
-        // here, they would all be held at once (some kilobytes per leaf column).
-        let leaves = match table_of(topic, options) {
-            Ok(table) => leaves(table.schema.fields()),
-            Err(error) => {
-                skipped.push(Skipped {
-                    topic: topic.name().to_owned(),
-                    multi_id: topic.multi_id(),
-                    error,
-                });
-                continue;
-            }
-        };
-        let mut name = file_name(topic);
-        // Two subscriptions of one name and instance (damaged logs): one file each.
-        if !names.insert(name.clone()) {
-            name = format!(
-                "{}_msg{}.parquet",
-                name.trim_end_matches(".parquet"),
-                topic.subscription().msg_id()
-            );
-            names.insert(name.clone());
-        }
-        jobs.push((topic, leaves, dir.join(name)));
-    }
-    let files = write_tables(&jobs, options, written)?;
-    let metadata = dir.join(METADATA_FILE);
-    write_metadata(log, &metadata)?;
-    Ok(Export {
-        files,
-        skipped,
-        metadata,
-    })
+    super::stream::export(source.into(), dir, options, |_| {})
 }
 
-/// Writes the tables of `jobs` (topic, leaf columns, path): the wide ones first, one at
-/// a time on this thread, then the others on up to [`Options::threads`] threads,
-/// largest topics first; the files come back in the order of `jobs`. The first failure (in that
-/// order) is returned; no new file is started after a failure.
-fn write_tables(
-    jobs: &[(&Topic<'_, '_>, usize, PathBuf)],
+/// [`write_parquet`], calling `progress` with the byte offset in the log that the pass
+/// has reached, every 8 MiB or so (to show progress; the bytes after the last call are
+/// read too, without one).
+pub fn write_parquet_with<'s>(
+    source: impl Into<Source<'s>>,
+    dir: &Path,
     options: &Options,
-    written: impl FnMut(&Written) + Send,
-) -> Result<Vec<Written>> {
-    let written = std::sync::Mutex::new(written);
-    let job = |i: usize| {
-        let (topic, _, path) = &jobs[i];
-        let table = table_of(topic, options)?;
-        let file = write_table(topic, &table, path, options)?;
-        (written.lock().unwrap_or_else(|p| p.into_inner()))(&file);
-        Ok(file)
-    };
-    let (wide, narrow): (Vec<usize>, Vec<usize>) =
-        (0..jobs.len()).partition(|&i| jobs[i].1 > WIDE_LEAVES);
-    let mut results: Vec<Option<Result<Written>>> = (0..jobs.len()).map(|_| None).collect();
-    // Wide tables one at a time, on this thread, and one at a time in the process
-    // (several logs exported at once): a file's writer keeps some kilobytes of
-    // metadata per leaf column until its footer, most of a wide table's memory, and
-    // memory a thread frees stays with that thread's allocator arena for its next
-    // allocations, not another thread's (bench/README.md).
-    let mut failed = false;
-    for &i in &wide {
-        let result = {
-            let _alone = WIDE_TABLE.lock().unwrap_or_else(|p| p.into_inner());
-            job(i)
-        };
-        failed = result.is_err();
-        results[i] = Some(result);
-        if failed {
-            break;
-        }
-    }
-    if !failed {
-        let costs: Vec<u64> = narrow
-            .iter()
-            .map(|&i| {
-                let topic = jobs[i].0;
-                let row = topic.layout().map_or(0, |l| l.size());
-                (topic.len() * (row + 16)) as u64
-            })
-            .collect();
-        let done = crate::parallel::largest_first(&costs, options.threads, |k| job(narrow[k]));
-        for (k, result) in done.into_iter().enumerate() {
-            results[narrow[k]] = result;
-        }
-    }
-    let mut files = Vec::with_capacity(jobs.len());
-    for result in results {
-        match result {
-            Some(Ok(file)) => files.push(file),
-            Some(Err(e)) => return Err(e),
-            // Not started after another file failed: that failure is returned.
-            None => {}
-        }
-    }
-    Ok(files)
+    progress: impl FnMut(u64),
+) -> Result<Export> {
+    super::stream::export(source.into(), dir, options, progress)
 }
-
-/// Held while a wide table (more than [`WIDE_LEAVES`] leaf columns) is written.
-static WIDE_TABLE: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Writes the rows of one topic instance to a Parquet file at `path` (replaced if it
 /// exists; written under a temporary name first, so a failed write leaves no partial
@@ -207,7 +122,7 @@ pub fn write_topic(topic: &Topic<'_, '_>, path: &Path, options: &Options) -> Res
 }
 
 fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
-    let table = TopicTable::new(topic, options)?;
+    let table = TopicTable::new(topic.subscription(), options)?;
     if table.schema.fields().is_empty() {
         return Err(ExportError::new(ExportErrorKind::NoValues {
             topic: topic.name().to_owned(),
@@ -220,7 +135,7 @@ fn table_of(topic: &Topic<'_, '_>, options: &Options) -> Result<TopicTable> {
 /// Payload bytes of a row group at most (and [`Options::row_group_rows`] rows): its
 /// record batch is built whole before its columns are written, so this bounds the
 /// memory of a topic being written, with one column writer at a time.
-const ROW_GROUP_BYTES: usize = 16 << 20;
+pub(super) const ROW_GROUP_BYTES: usize = 16 << 20;
 
 /// A column chunk's dictionary page at most, after which its values are written
 /// plain: a column of distinct values (timestamps, most floats) stops paying for a
@@ -233,10 +148,10 @@ const DICTIONARY_PAGE_BYTES: usize = 256 << 10;
 /// whatever the row count, and its column index more metadata until the footer,
 /// which for very wide formats is most of the export's memory (bench/README.md). PX4
 /// topics have a few hundred leaves at most, and keep both.
-const WIDE_LEAVES: usize = 1024;
+pub(super) const WIDE_LEAVES: usize = 1024;
 
 /// The number of leaf columns (Parquet columns) of `fields`.
-fn leaves(fields: &arrow_schema::Fields) -> usize {
+pub(super) fn leaves(fields: &arrow_schema::Fields) -> usize {
     use arrow_schema::DataType;
     fn of(t: &DataType) -> usize {
         match t {
@@ -256,34 +171,7 @@ fn write_table(
     path: &Path,
     options: &Options,
 ) -> Result<Written> {
-    let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
-    let compression = match options.compression {
-        Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
-        Compression::Snappy => ParquetCompression::SNAPPY,
-        Compression::Zstd => ParquetCompression::ZSTD(Default::default()),
-    };
-    let mut metadata: Vec<KeyValue> = table
-        .schema
-        .metadata()
-        .iter()
-        .map(|(k, v)| KeyValue::new(k.clone(), v.clone()))
-        .collect();
-    metadata.sort_by(|a, b| a.key.cmp(&b.key));
-    let props = WriterProperties::builder()
-        .set_compression(compression)
-        .set_created_by(concat!("ulog-core ", env!("CARGO_PKG_VERSION")).to_owned())
-        .set_key_value_metadata(Some(metadata))
-        .set_dictionary_enabled(narrow)
-        .set_dictionary_page_size_limit(DICTIONARY_PAGE_BYTES)
-        // Page statistics (the column index) are more metadata per column held until
-        // the footer; wide tables keep the statistics of each column chunk only.
-        .set_statistics_enabled(if narrow {
-            EnabledStatistics::Page
-        } else {
-            EnabledStatistics::Chunk
-        })
-        .build();
-
+    let props = properties(table, options);
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".partial");
     let tmp = PathBuf::from(tmp);
@@ -304,7 +192,8 @@ fn write_table(
         for start in (0..topic.len()).step_by(step) {
             let end = (start + step).min(topic.len());
             let payloads: Vec<&[u8]> = topic.payloads_in(start..end).collect();
-            let batch = table.batch(&payloads, offsets.slice(start..end))?;
+            let rows = offsets.slice(start..end);
+            let batch = table.batch(&payloads, |i| rows.get(i).unwrap_or(0))?;
             writer
                 .write_row_group(&batch)
                 .map_err(|e| write_error(&tmp, e))?;
@@ -324,8 +213,41 @@ fn write_table(
     })
 }
 
+/// The writer properties of a table's files: its compression, its schema's metadata
+/// as the files' key-value metadata (sorted: the files are the same from run to run),
+/// and, for wide tables, no dictionaries and chunk statistics only.
+pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterProperties {
+    let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
+    let compression = match options.compression {
+        Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
+        Compression::Snappy => ParquetCompression::SNAPPY,
+        Compression::Zstd => ParquetCompression::ZSTD(Default::default()),
+    };
+    let mut metadata: Vec<KeyValue> = table
+        .schema
+        .metadata()
+        .iter()
+        .map(|(k, v)| KeyValue::new(k.clone(), v.clone()))
+        .collect();
+    metadata.sort_by(|a, b| a.key.cmp(&b.key));
+    WriterProperties::builder()
+        .set_compression(compression)
+        .set_created_by(concat!("ulog-core ", env!("CARGO_PKG_VERSION")).to_owned())
+        .set_key_value_metadata(Some(metadata))
+        .set_dictionary_enabled(narrow)
+        .set_dictionary_page_size_limit(DICTIONARY_PAGE_BYTES)
+        // Page statistics (the column index) are more metadata per column held until
+        // the footer; wide tables keep the statistics of each column chunk only.
+        .set_statistics_enabled(if narrow {
+            EnabledStatistics::Page
+        } else {
+            EnabledStatistics::Chunk
+        })
+        .build()
+}
+
 /// A Parquet error: an I/O error about `path`, or an export error.
-fn write_error(path: &Path, e: parquet::errors::ParquetError) -> ExportError {
+pub(super) fn write_error(path: &Path, e: parquet::errors::ParquetError) -> ExportError {
     match e {
         parquet::errors::ParquetError::External(inner) => {
             match inner.downcast::<std::io::Error>() {

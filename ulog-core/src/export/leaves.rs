@@ -56,6 +56,11 @@ impl<W: Write + Send> LeafWriter<W> {
         Ok(())
     }
 
+    /// The writer the file goes to (what the Parquet writer buffers not yet in it).
+    pub(super) fn out_mut(&mut self) -> &mut W {
+        self.file.inner_mut()
+    }
+
     /// Writes the footer and flushes the file.
     pub(super) fn close(self) -> Result<()> {
         self.file.close().map(drop)

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::error::ExportError;
+use crate::finding::{Finding, FindingKind};
 use crate::log::message::KeyValue;
 use crate::log::ulog::ULog;
 use crate::value::Value;
@@ -45,6 +46,29 @@ pub const METADATA_FILE: &str = "metadata.json";
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn metadata_json(log: &ULog<'_>) -> String {
+    let rows: Vec<usize> = log.topics().map(|t| t.len()).collect();
+    json(
+        log,
+        &Facts {
+            last_timestamp: log.last_timestamp(),
+            findings: log.findings(),
+            rows: &rows,
+        },
+    )
+}
+
+/// What the metadata says that a log read without its data (the export's kept log)
+/// does not know itself: the data's last timestamp, what framing found, and each
+/// subscription's rows.
+pub(super) struct Facts<'f> {
+    pub last_timestamp: u64,
+    pub findings: &'f [Finding],
+    /// Rows per subscription, in the order of [`ULog::topics`].
+    pub rows: &'f [usize],
+}
+
+/// [`metadata_json`] of `log` with `facts`.
+pub(super) fn json(log: &ULog<'_>, facts: &Facts<'_>) -> String {
     let mut j = Json::default();
     j.open('{');
     j.key("version");
@@ -52,11 +76,16 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
     j.key("start_timestamp");
     j.raw(&log.start_timestamp().to_string());
     j.key("last_timestamp");
-    j.raw(&log.last_timestamp().to_string());
+    j.raw(&facts.last_timestamp.to_string());
+    let truncated = facts
+        .findings
+        .iter()
+        .any(|f| f.kind == FindingKind::Truncated);
+    let damaged = facts.findings.iter().any(Finding::is_damage);
     j.key("truncated");
-    j.raw(if log.is_truncated() { "true" } else { "false" });
+    j.raw(if truncated { "true" } else { "false" });
     j.key("damaged");
-    j.raw(if log.has_damage() { "true" } else { "false" });
+    j.raw(if damaged { "true" } else { "false" });
 
     j.key("info");
     key_values(&mut j, log.info());
@@ -152,7 +181,7 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
 
     j.key("findings");
     j.open('[');
-    for f in log.findings() {
+    for f in facts.findings {
         j.item();
         j.open('{');
         j.key("offset");
@@ -171,7 +200,7 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
 
     j.key("topics");
     j.open('[');
-    for t in log.topics() {
+    for (t, rows) in log.topics().zip(facts.rows) {
         j.item();
         j.open('{');
         j.key("name");
@@ -179,7 +208,7 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
         j.key("multi_id");
         j.raw(&t.multi_id().to_string());
         j.key("rows");
-        j.raw(&t.len().to_string());
+        j.raw(&rows.to_string());
         j.close('}');
     }
     j.close(']');

@@ -1,7 +1,11 @@
 //! Export of a log to Apache Arrow record batches and Parquet files (feature
 //! `parquet`), for query engines that read Parquet (DataFusion, DuckDB, Spark, Polars).
 //!
-//! [`write_parquet`] writes one Parquet file per topic instance with data, named
+//! [`write_parquet`] reads a log once, from any [`Source`](crate::Source) (a file is
+//! read in chunks, never held whole: the rows held are bounded by
+//! [`Options::buffer_bytes`], not the size of the log; the messages other than data,
+//! information, parameters and logged strings, are kept for the metadata), and writes
+//! one Parquet file per topic instance with data, named
 //! [`file_name`] (`<topic>_<multi_id>.parquet`, `/` in a topic name becoming `_`), and
 //! a [`METADATA_FILE`] (`metadata.json`, see [`metadata_json`]) with the log's
 //! information, parameters, logged messages, dropouts and findings.
@@ -50,8 +54,10 @@
 mod arrow;
 mod error;
 mod files;
+mod lazy_file;
 mod leaves;
 mod metadata;
+mod stream;
 #[cfg(test)]
 mod tests;
 
@@ -91,7 +97,9 @@ pub struct Options {
     /// Flatten to pyulog's columns (`a.b[3].c`) instead of struct and list columns.
     pub flatten: bool,
     /// Only these topics (every instance of each); `None`: every topic. A name that is
-    /// not in the log is an error ([`ExportErrorKind::Lookup`]).
+    /// not in the log is an error ([`ExportErrorKind::Lookup`]), known once the whole
+    /// log has been read (a subscription may come at any point), unless
+    /// [`Options::skip_missing_topics`].
     pub topics: Option<Vec<String>>,
     /// Compression of the Parquet files.
     pub compression: Compression,
@@ -101,9 +109,21 @@ pub struct Options {
     /// most 16 MiB of payload (its record batch is built whole: this bounds the
     /// memory used per topic). At least 1.
     pub row_group_rows: usize,
-    /// Threads writing topics at once (`0` or `1`: on the calling thread). The files
-    /// are the same whatever the number.
+    /// Threads writing row groups while the log is read (`0` or `1`: on the calling
+    /// thread, between reads). The files are the same whatever the number.
     pub threads: usize,
+    /// Bytes of rows [`write_parquet`] holds for all topics together before it writes
+    /// the largest topic's rows out as a row group (each topic's row group is also
+    /// written when it is full): with the row groups on their way (one per thread, one
+    /// waiting for a thread and one being handed over, at most 16 MiB of rows each,
+    /// with their Arrow arrays), this bounds the memory of an export whatever the size
+    /// of the log. Smaller budgets cut more, smaller row groups of the rarer topics. At
+    /// least 1; default 32 MiB.
+    pub buffer_bytes: usize,
+    /// A name of [`Options::topics`] that the log lacks is listed in
+    /// [`Export::missing_topics`] instead of failing the export (which still fails
+    /// when the log has none of the names).
+    pub skip_missing_topics: bool,
 }
 
 impl Default for Options {
@@ -115,20 +135,23 @@ impl Default for Options {
             batch_rows: 65_536,
             row_group_rows: 1 << 20,
             threads: 1,
+            buffer_bytes: 32 << 20,
+            skip_missing_topics: false,
         }
     }
 }
 
 /// The Arrow schema of a topic (see the [module docs](self) for the columns).
 pub fn topic_schema(topic: &Topic<'_, '_>, options: &Options) -> Result<SchemaRef> {
-    Ok(TopicTable::new(topic, options)?.schema)
+    Ok(TopicTable::new(topic.subscription(), options)?.schema)
 }
 
 /// Every row of a topic as one record batch.
 pub fn topic_record_batch(topic: &Topic<'_, '_>, options: &Options) -> Result<RecordBatch> {
-    let table = TopicTable::new(topic, options)?;
+    let table = TopicTable::new(topic.subscription(), options)?;
     let payloads: Vec<&[u8]> = topic.payloads().collect();
-    table.batch(&payloads, topic.message_offsets())
+    let offsets = topic.message_offsets();
+    table.batch(&payloads, |i| offsets.get(i).unwrap_or(0))
 }
 
 /// The rows of a topic as record batches of at most [`Options::batch_rows`] rows.
@@ -137,7 +160,7 @@ pub fn topic_record_batches<'l, 'a>(
     options: &Options,
 ) -> Result<RecordBatches<'l, 'a>> {
     Ok(RecordBatches {
-        table: TopicTable::new(topic, options)?,
+        table: TopicTable::new(topic.subscription(), options)?,
         topic: *topic,
         next: 0,
         batch_rows: options.batch_rows.max(1),
@@ -172,7 +195,7 @@ impl Iterator for RecordBatches<'_, '_> {
         let payloads: Vec<&[u8]> = self.topic.payloads_in(self.next..end).collect();
         let offsets = self.topic.message_offsets().slice(self.next..end);
         self.next = end;
-        Some(self.table.batch(&payloads, offsets))
+        Some(self.table.batch(&payloads, |i| offsets.get(i).unwrap_or(0)))
     }
 }
 
@@ -207,11 +230,12 @@ pub fn selected_topics<'l, 'a>(log: &'l ULog<'a>, options: &Options) -> Result<V
 /// The file name of a topic instance: `<topic>_<multi_id>.parquet`, `/` in the name
 /// becoming `_`.
 pub fn file_name(topic: &Topic<'_, '_>) -> String {
-    format!(
-        "{}_{}.parquet",
-        topic.name().replace('/', "_"),
-        topic.multi_id()
-    )
+    name_of(topic.name(), topic.multi_id())
+}
+
+/// [`file_name`] of topic `name`, instance `multi_id`.
+pub(crate) fn name_of(name: &str, multi_id: u8) -> String {
+    format!("{}_{multi_id}.parquet", name.replace('/', "_"))
 }
 
 /// Appends the text of a `char[N]` value to `out` (cleared first): the bytes up to the

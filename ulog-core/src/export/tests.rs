@@ -362,10 +362,28 @@ fn topic_filter_checks_names_and_skips_what_cannot_be_exported() {
         }
         k => panic!("{k:?}"),
     }
-    assert!(
-        !dir.exists(),
-        "nothing is written before the names are checked"
-    );
+    assert!(!dir.exists(), "nothing is left when a name is missing");
+
+    // Unless asked to skip the missing names.
+    let lenient = Options {
+        skip_missing_topics: true,
+        ..options.clone()
+    };
+    let export = write_parquet(&log, &dir, &lenient).unwrap();
+    assert_eq!(export.files.len(), 2, "{:?}", export.files);
+    match &export.missing_topics[..] {
+        [LookupError::Topic(missing)] => assert_eq!(missing.closest, ["esc_status"]),
+        other => panic!("{other:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    // None of the names: still an error.
+    let none = Options {
+        topics: Some(vec!["esc_statsu".into()]),
+        ..lenient
+    };
+    let err = write_parquet(&log, &dir, &none).unwrap_err();
+    assert!(matches!(err.kind(), ExportErrorKind::Lookup(_)), "{err}");
+    assert!(!dir.exists());
 
     let options = Options {
         topics: Some(vec!["battery_status".into()]),
@@ -542,8 +560,7 @@ fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
             threads,
             ..Options::default()
         };
-        let export =
-            write_parquet_with(&log, &dir, &options, |w| reported.push(w.clone())).unwrap();
+        let export = write_parquet_with(&log, &dir, &options, |read| reported.push(read)).unwrap();
         let relative =
             |files: &[Written], root: &std::path::Path| -> Vec<(String, u8, PathBuf, usize)> {
                 files
@@ -562,11 +579,9 @@ fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
             relative(&export.files, &dir),
             relative(&expected.files, &one)
         );
-        // Every file reported once, whatever the order they were done in.
-        reported.sort_by(|a, b| a.path.cmp(&b.path));
-        let mut files = export.files.clone();
-        files.sort_by(|a, b| a.path.cmp(&b.path));
-        assert_eq!(reported, files);
+        // Progress only goes forward, within the log.
+        assert!(reported.windows(2).all(|w| w[0] < w[1]), "{reported:?}");
+        assert!(reported.iter().all(|&r| r < bytes.len() as u64));
         let (a, b) = (read_dir(&one), read_dir(&dir));
         assert_eq!(a.len(), b.len());
         for ((_, x), (_, y)) in a.iter().zip(&b) {
@@ -574,7 +589,65 @@ fn topics_written_on_several_threads_give_the_same_files_in_the_same_order() {
         }
         std::fs::remove_dir_all(&dir).unwrap();
     }
+    // Read from a reader in chunks (a pipe, say), two bytes at a time: the same files.
+    let dir = scratch("threads-reader");
+    let trickle = Trickle(&bytes[..]);
+    let options = Options {
+        threads: 2,
+        ..Options::default()
+    };
+    write_parquet(crate::Source::reader(trickle), &dir, &options).unwrap();
+    assert!(read_dir(&one)
+        .iter()
+        .map(|(_, b)| b)
+        .eq(read_dir(&dir).iter().map(|(_, b)| b)));
+    std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_dir_all(&one).unwrap();
+}
+
+/// A reader that gives at most two bytes a read.
+struct Trickle<'a>(&'a [u8]);
+
+impl std::io::Read for Trickle<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(2).min(self.0.len());
+        buf[..n].copy_from_slice(&self.0[..n]);
+        self.0 = &self.0[n..];
+        Ok(n)
+    }
+}
+
+#[test]
+fn a_failed_export_leaves_no_partial_file_and_says_which_file() {
+    let bytes = crate::testing::sample_log();
+    let dir = scratch("failed");
+    // A folder where a Parquet file should go: its rename fails.
+    let blocker = dir.join("esc_status_0.parquet");
+    std::fs::create_dir_all(blocker.join("inside")).unwrap();
+    let options = Options {
+        threads: 2,
+        ..Options::default()
+    };
+    let err = write_parquet(&bytes, &dir, &options).unwrap_err();
+    assert!(matches!(err.kind(), ExportErrorKind::Io(_)), "{err}");
+    assert_eq!(err.path(), Some(blocker.as_path()), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        left,
+        ["esc_status_0.parquet"],
+        "only the folder that was there"
+    );
+
+    // Not a log at all: a read error, and the folder the export made is gone.
+    let out = dir.join("new").join("deeper");
+    let err = write_parquet(&b"not a log"[..], &out, &options).unwrap_err();
+    assert_eq!(err.kind(), &ExportErrorKind::Read, "{err}");
+    assert!(std::error::Error::source(&err).is_some());
+    assert!(!dir.join("new").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A Parquet file's metadata and schema, and all its rows as one batch.
@@ -695,4 +768,68 @@ fn wide_and_narrow_topics_read_back_equal_on_any_thread_count() {
             std::fs::remove_dir_all(&dir).unwrap();
         }
     }
+}
+
+#[test]
+fn a_topic_whose_columns_read_no_byte_keeps_its_rows_on_any_thread_count() {
+    let mut b = LogBuilder::new(1, 0);
+    b.format("empty_text:char[0] s;");
+    b.subscribe(0, 0, "empty_text");
+    for _ in 0..5 {
+        b.data(0, &[]);
+    }
+    let bytes = b.into_bytes();
+    for threads in [1, 2] {
+        let dir = scratch(&format!("char0-{threads}"));
+        let options = Options {
+            threads,
+            buffer_bytes: 2,
+            ..Options::default()
+        };
+        let export = write_parquet(&bytes, &dir, &options).unwrap();
+        assert_eq!(export.files.len(), 1);
+        assert_eq!(export.files[0].rows, 5);
+        let (_, _, back) = read_whole(&export.files[0].path);
+        assert_eq!(back.num_rows(), 5);
+        assert!(back
+            .column(0)
+            .as_string::<i32>()
+            .iter()
+            .all(|s| s == Some("")));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[test]
+fn metadata_of_the_one_pass_export_is_the_parsed_logs_with_the_times_of_the_data() {
+    let mut b = LogBuilder::new(1, 7);
+    b.format("t:uint64_t timestamp;");
+    // Misplaced flag bits (an unknown incompatible bit set): only a finding.
+    b.flag_bits([0; 8], [0x80; 8], [0; 3]);
+    b.param("int32_t P_A", &1i32.to_le_bytes());
+    b.subscribe(0, 0, "t");
+    b.data(0, &100u64.to_le_bytes());
+    b.param("int32_t P_A", &2i32.to_le_bytes());
+    b.data(0, &250u64.to_le_bytes());
+    b.dropout(12);
+    b.data(0, &200u64.to_le_bytes());
+    b.param("int32_t P_A", &3i32.to_le_bytes());
+    let bytes = b.into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    assert!(!log.findings().is_empty());
+    let dir = scratch("misplaced-flags");
+    let export = write_parquet(&bytes, &dir, &Options::default()).unwrap();
+    let text = std::fs::read_to_string(&export.metadata).unwrap();
+    assert_eq!(text, metadata_json(&log));
+    // The changes take the time of the data before them.
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let times: Vec<u64> = json["changed_parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["timestamp"].as_u64().unwrap())
+        .collect();
+    assert_eq!(times, [100, 250]);
+    assert_eq!(json["dropouts"][0]["timestamp"], 250);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -253,6 +253,27 @@ impl<'a> Builder<'a> {
     }
 }
 
+#[cfg(feature = "parquet")]
+impl ULog<'_> {
+    /// Gives each parameter change and dropout at an offset of `times` (sorted by
+    /// offset) the time paired with it: a log kept without its data (the export's)
+    /// has the times of the data from the pass that kept it.
+    pub(crate) fn retime(&mut self, times: &[(u64, u64)]) {
+        let at = |offset: u64| {
+            times
+                .binary_search_by_key(&offset, |&(o, _)| o)
+                .ok()
+                .map(|i| times[i].1)
+        };
+        for c in &mut self.param_changes {
+            c.timestamp = at(c.offset).unwrap_or(c.timestamp);
+        }
+        for d in &mut self.dropouts {
+            d.timestamp = at(d.offset).unwrap_or(d.timestamp);
+        }
+    }
+}
+
 impl<'a> ULog<'a> {
     /// The bytes the log was parsed from.
     pub fn data(&self) -> &'a [u8] {

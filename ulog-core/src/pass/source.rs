@@ -176,12 +176,44 @@ pub(crate) fn drive<F>(
 where
     F: FnMut(DataRecord<'_>) -> Hand,
 {
+    let mut driver = Driver::new();
+    drive_with(source, read_ahead, &mut driver, f)?;
+    Ok(driver.summary())
+}
+
+/// [`drive`], keeping the messages other than data in `kept` as they go by (see
+/// [`Kept`](crate::pass::driver::Kept)).
+#[cfg(feature = "parquet")]
+pub(crate) fn drive_keeping<F>(
+    source: Source<'_>,
+    read_ahead: bool,
+    kept: crate::pass::driver::Kept,
+    f: &mut F,
+) -> Result<(ScanSummary, crate::pass::driver::Kept), ReadError>
+where
+    F: FnMut(DataRecord<'_>) -> Hand,
+{
+    let mut driver = Driver::new();
+    driver.keep = Some(kept);
+    drive_with(source, read_ahead, &mut driver, f)?;
+    let kept = driver.keep.take().unwrap_or_default();
+    Ok((driver.summary(), kept))
+}
+
+fn drive_with<F>(
+    source: Source<'_>,
+    read_ahead: bool,
+    driver: &mut Driver,
+    f: &mut F,
+) -> Result<(), ReadError>
+where
+    F: FnMut(DataRecord<'_>) -> Hand,
+{
     let path = source.inner.path().map(Path::to_owned);
     let in_file = |e: ReadError| match &path {
         Some(p) => e.in_file(p),
         None => e,
     };
-    let mut driver = Driver::new();
     match source.inner {
         Inner::Bytes(bytes, _) => {
             // The whole file is given: framing ends, and the summary covers whatever
@@ -192,20 +224,20 @@ where
             driver.run(log.data(), 0, true, f)?;
         }
         Inner::Reader(reader) if read_ahead => {
-            read_ahead_chunks(reader, AHEAD_CHUNK, CARRY_ROOM, &mut driver, f)?
+            read_ahead_chunks(reader, AHEAD_CHUNK, CARRY_ROOM, driver, f)?
         }
-        Inner::Reader(mut reader) => read_chunks(&mut reader, &mut driver, f)?,
+        Inner::Reader(mut reader) => read_chunks(&mut reader, driver, f)?,
         Inner::File(path) => {
             let mut file = open(&path)?;
             if read_ahead {
-                read_ahead_chunks(file, AHEAD_CHUNK, CARRY_ROOM, &mut driver, f)
+                read_ahead_chunks(file, AHEAD_CHUNK, CARRY_ROOM, driver, f)
             } else {
-                read_chunks(&mut file, &mut driver, f)
+                read_chunks(&mut file, driver, f)
             }
             .map_err(in_file)?
         }
     }
-    Ok(driver.summary())
+    Ok(())
 }
 
 /// Reads `src` in chunks, keeping what framing still needs at the front of the

@@ -1,0 +1,628 @@
+//! The export of a whole log in one pass over its bytes: each data message's row is
+//! copied into its topic's buffer as the pass goes by, and a buffer is written out as
+//! a row group when it is full, or when the rows held by all topics together pass
+//! [`Options::buffer_bytes`] (the largest buffer goes first). The memory is then that
+//! budget and the row groups being written, whatever the size of the log; the log is
+//! read once, in file order, from any [`Source`].
+//!
+//! Row groups are written on [`Options::threads`] threads while the pass goes on; a
+//! topic's row groups are written in the order they were cut, whichever thread
+//! encodes them, so the files do not depend on the number of threads.
+
+use std::fs::File;
+use std::io::{BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver};
+use std::sync::{Arc, Condvar, Mutex};
+
+use crate::access::lookup::{LookupError, TopicNotFound};
+use crate::bytes::{HEADER_SIZE, MAGIC};
+use crate::definitions::timestamp::Unwrapper;
+use crate::definitions::Subscription;
+use crate::log::ulog::ULog;
+use crate::pass::driver::{Hand, Kept};
+use crate::pass::source::{drive_keeping, Source};
+
+use super::arrow::TopicTable;
+use super::error::{ExportError, ExportErrorKind};
+use super::files::{
+    leaves, properties, write_error, Export, Skipped, Written, ROW_GROUP_BYTES, WIDE_LEAVES,
+};
+use super::lazy_file::LazyFile;
+use super::leaves::LeafWriter;
+use super::metadata::{json, Facts};
+use super::{name_of, Options, METADATA_FILE};
+
+type Result<T, E = ExportError> = core::result::Result<T, E>;
+
+/// Bytes of the log framed between two calls of the progress callback.
+const PROGRESS_STEP: u64 = 8 << 20;
+
+/// A topic instance's Parquet file, written one row group at a time in the order the
+/// groups were cut (`next`: the number of the group whose turn it is).
+struct TopicFile {
+    /// Where it is written until the export is done.
+    partial: PathBuf,
+    /// The file errors name: where it goes when the export is done (but for a second
+    /// subscription of one name and instance, named after its msg_id at the end).
+    shown: PathBuf,
+    state: Mutex<FileState>,
+    turn: Condvar,
+}
+
+struct FileState {
+    writer: Option<LeafWriter<BufWriter<LazyFile>>>,
+    next: u64,
+}
+
+/// A row group to write: `rows` holds its rows, [`TopicTable::needed`] bytes each (one
+/// byte, unread, for a table whose columns read none: `char[0]` fields).
+struct Group {
+    table: Arc<TopicTable>,
+    file: Arc<TopicFile>,
+    number: u64,
+    rows: Vec<u8>,
+}
+
+/// A topic instance with data, as the pass meets it.
+enum Slot {
+    /// Not met yet.
+    Unseen,
+    /// Not among [`Options::topics`].
+    Unselected,
+    /// Cannot be exported (listed in [`Export::skipped`]).
+    Skipped,
+    /// Being exported.
+    Open(Box<Open>),
+}
+
+struct Open {
+    /// The topic's name, instance, msg_id and index among the subscriptions.
+    name: String,
+    multi_id: u8,
+    msg_id: u16,
+    index: usize,
+    /// The table, but for wide tables (built again when they are written: it holds
+    /// some hundred bytes per column).
+    table: Option<Arc<TopicTable>>,
+    /// The bytes of each row the columns read ([`TopicTable::needed`]).
+    needed: usize,
+    file: Arc<TopicFile>,
+    /// Rows not written yet.
+    buffer: Vec<u8>,
+    /// For a wide table (more than [`WIDE_LEAVES`] leaf columns): the file its rows
+    /// go to during the pass, written out as Parquet after it, one wide table at a
+    /// time (see [`write_wide`]).
+    spill: Option<Spill>,
+    /// Bytes of a full row group.
+    group_bytes: usize,
+    /// Row groups cut so far.
+    groups: u64,
+    rows: usize,
+}
+
+/// Writes the log of `source` to `dir` (see [`super::write_parquet`]).
+pub(super) fn export(
+    source: Source<'_>,
+    dir: &Path,
+    options: &Options,
+    mut progress: impl FnMut(u64),
+) -> Result<Export> {
+    // The folders this export makes, innermost first: removed again after an error.
+    let made: Vec<PathBuf> = dir
+        .ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+        .map(Path::to_owned)
+        .collect();
+    std::fs::create_dir_all(dir).map_err(|e| ExportError::io(e, dir))?;
+    let failure: Mutex<Option<ExportError>> = Mutex::new(None);
+    let failed = AtomicBool::new(false);
+    let fail = |e: ExportError| {
+        let mut first = failure.lock().unwrap_or_else(|p| p.into_inner());
+        first.get_or_insert(e);
+        failed.store(true, Ordering::Relaxed);
+    };
+    let write = |group: Group| {
+        if let Err(e) = write_group(group, options) {
+            fail(e);
+        }
+    };
+
+    let mut slots: Vec<Slot> = Vec::new();
+    let mut clocks: Vec<Unwrapper> = Vec::new();
+    let mut rows: Vec<usize> = Vec::new();
+    let mut skipped = Vec::new();
+    let kept = Kept::default();
+    let clock = kept.clock.clone();
+    let mut last = 0u64;
+    let mut buffered = 0usize;
+    let budget = options.buffer_bytes.max(1);
+    let mut reported = 0u64;
+
+    let threads = options.threads.max(1);
+    // One group waits for a free thread: the pass goes on while the threads are busy
+    // (handing over only to a free thread was 0.92x as fast on 2 cores, for the same
+    // peak memory: BENCHMARKS.md).
+    let (send, receive) = sync_channel::<Group>(1);
+    let receive = Mutex::new(receive);
+    let scanned = std::thread::scope(|s| {
+        let mut workers = Vec::new();
+        if threads > 1 {
+            for _ in 0..threads {
+                let receive = &receive;
+                let write = &write;
+                let worker = std::thread::Builder::new()
+                    .name("ulog parquet".to_owned())
+                    .spawn_scoped(s, move || take_groups(receive, write));
+                match worker {
+                    Ok(w) => workers.push(w),
+                    // Fewer threads: the groups are written by those there are, or
+                    // on this thread.
+                    Err(_) => break,
+                }
+            }
+        }
+        let to_workers = |group: Group| {
+            if let Err(std::sync::mpsc::SendError(group)) = send.send(group) {
+                write(group);
+            }
+        };
+        let hand: &dyn Fn(Group) = if workers.is_empty() {
+            &write
+        } else {
+            &to_workers
+        };
+        let cut = |slot: &mut Open, buffered: &mut usize| {
+            *buffered -= slot.buffer.len();
+            let rows = std::mem::take(&mut slot.buffer);
+            if let Some(spill) = &mut slot.spill {
+                if let Err(e) = spill.append(&rows) {
+                    fail(e);
+                }
+                return;
+            }
+            let Some(table) = &slot.table else {
+                return;
+            };
+            slot.groups += 1;
+            hand(Group {
+                table: table.clone(),
+                file: slot.file.clone(),
+                number: slot.groups - 1,
+                rows,
+            });
+        };
+        let result = drive_keeping(source, true, kept, &mut |r| {
+            let i = r.topic.index();
+            if slots.len() <= i {
+                slots.resize_with(i + 1, || Slot::Unseen);
+                clocks.resize_with(i + 1, || Unwrapper::new(None));
+                rows.resize(i + 1, 0);
+            }
+            if matches!(slots[i], Slot::Unseen) {
+                clocks[i] = Unwrapper::new(r.topic.timestamp_field());
+                slots[i] = open(r.topic, dir, options, &mut skipped);
+            }
+            rows[i] += 1;
+            if let Some(t) = clocks[i].push(r.payload) {
+                if t > last {
+                    last = t;
+                    clock.store(t, Ordering::Relaxed);
+                }
+            }
+            if r.offset >= reported + PROGRESS_STEP {
+                reported = r.offset;
+                progress(reported);
+            }
+            let Slot::Open(slot) = &mut slots[i] else {
+                return Hand::Next;
+            };
+            let needed = slot.needed;
+            let Some(row) = r.payload.get(..needed) else {
+                fail(
+                    ExportError::new(ExportErrorKind::ShortPayload {
+                        topic: slot.name.clone(),
+                        needed,
+                        found: r.payload.len(),
+                    })
+                    .at(r.offset),
+                );
+                return Hand::Stop;
+            };
+            slot.buffer.extend_from_slice(row);
+            slot.rows += 1;
+            if needed == 0 {
+                slot.buffer.push(0);
+            }
+            buffered += needed.max(1);
+            if slot.buffer.len() >= slot.group_bytes {
+                cut(slot, &mut buffered);
+            } else if buffered > budget {
+                let largest = slots
+                    .iter_mut()
+                    .filter_map(|s| match s {
+                        Slot::Open(o) => Some(o),
+                        _ => None,
+                    })
+                    .max_by_key(|o| o.buffer.len());
+                if let Some(slot) = largest {
+                    cut(slot, &mut buffered);
+                }
+            }
+            if failed.load(Ordering::Relaxed) {
+                Hand::Stop
+            } else {
+                Hand::Next
+            }
+        });
+        if result.is_ok() && !failed.load(Ordering::Relaxed) {
+            for slot in &mut slots {
+                if let Slot::Open(slot) = slot {
+                    if !slot.buffer.is_empty() {
+                        cut(slot, &mut buffered);
+                    }
+                }
+            }
+        }
+        drop(send);
+        crate::parallel::join_all(workers);
+        result
+    });
+
+    let opened: Vec<&mut Open> = slots
+        .iter_mut()
+        .filter_map(|s| match s {
+            Slot::Open(o) => Some(&mut **o),
+            _ => None,
+        })
+        .collect();
+    let mut opened = opened;
+    let metadata = dir.join(METADATA_FILE);
+    let metadata_partial = dir.join(format!("{METADATA_FILE}.partial"));
+    let done = (|| {
+        let (summary, kept) = scanned.map_err(ExportError::read)?;
+        if let Some(e) = failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            return Err(e);
+        }
+        for slot in opened.iter_mut() {
+            write_wide(slot, options)?;
+            close(&slot.file)?;
+        }
+        // Everything but the data, as a log of its own.
+        let mut bytes = Vec::with_capacity(HEADER_SIZE + kept.bytes.len());
+        bytes.extend_from_slice(&MAGIC);
+        bytes.push(summary.header.version);
+        bytes.extend_from_slice(&summary.header.timestamp.to_le_bytes());
+        bytes.extend_from_slice(&kept.bytes);
+        let mut log = ULog::parse(&bytes).map_err(ExportError::read)?;
+        let start = summary.header.timestamp;
+        let times: Vec<(u64, u64)> = kept
+            .times
+            .iter()
+            .map(|&(at, t)| (at + HEADER_SIZE as u64, t.max(start)))
+            .collect();
+        log.retime(&times);
+
+        let missing = missing_topics(&log, options)?;
+        rows.resize(log.subscriptions().len(), 0);
+        let facts = Facts {
+            last_timestamp: last.max(start),
+            findings: &summary.findings,
+            rows: &rows[..log.subscriptions().len()],
+        };
+        std::fs::write(&metadata_partial, json(&log, &facts))
+            .map_err(|e| ExportError::io(e, &metadata))?;
+        let files = rename(&opened, dir)?;
+        if let Err(e) = std::fs::rename(&metadata_partial, &metadata) {
+            for done in &files {
+                let _ = std::fs::remove_file(&done.path);
+            }
+            return Err(ExportError::io(e, &metadata));
+        }
+        skipped.sort_by(|a: &Skipped, b: &Skipped| {
+            (&a.topic, a.multi_id).cmp(&(&b.topic, b.multi_id))
+        });
+        Ok(Export {
+            files,
+            skipped: std::mem::take(&mut skipped),
+            missing_topics: missing,
+            metadata,
+        })
+    })();
+    if done.is_err() {
+        let _ = std::fs::remove_file(&metadata_partial);
+        for slot in &opened {
+            let _ = std::fs::remove_file(&slot.file.partial);
+            if let Some(spill) = &slot.spill {
+                let _ = std::fs::remove_file(&spill.path);
+            }
+        }
+        for folder in &made {
+            // Only when nothing else came into it meanwhile.
+            let _ = std::fs::remove_dir(folder);
+        }
+    }
+    done
+}
+
+/// What the pass does with a topic instance met for the first time.
+fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Skipped>) -> Slot {
+    if let Some(names) = &options.topics {
+        if !names.iter().any(|n| n == sub.name()) {
+            return Slot::Unselected;
+        }
+    }
+    let table = match TopicTable::new(sub, options).and_then(|t| {
+        if t.schema.fields().is_empty() {
+            Err(ExportError::new(ExportErrorKind::NoValues {
+                topic: sub.name().to_owned(),
+            })
+            .at(sub.offset()))
+        } else {
+            Ok(t)
+        }
+    }) {
+        Ok(table) => table,
+        Err(error) => {
+            skipped.push(Skipped {
+                topic: sub.name().to_owned(),
+                multi_id: sub.multi_id(),
+                error,
+            });
+            return Slot::Skipped;
+        }
+    };
+    let wide = leaves(table.schema.fields()) > WIDE_LEAVES;
+    let row_size = sub.layout().map_or(1, |l| l.size().max(1));
+    let group_rows = options
+        .row_group_rows
+        .clamp(1, (ROW_GROUP_BYTES / row_size).max(1));
+    let partial = dir.join(format!(
+        "{}.{}.partial",
+        name_of(sub.name(), sub.multi_id()),
+        sub.index()
+    ));
+    Slot::Open(Box::new(Open {
+        name: sub.name().to_owned(),
+        multi_id: sub.multi_id(),
+        msg_id: sub.msg_id(),
+        index: sub.index(),
+        group_bytes: group_rows * table.needed().max(1),
+        needed: table.needed(),
+        table: (!wide).then(|| Arc::new(table)),
+        file: Arc::new(TopicFile {
+            partial,
+            shown: dir.join(name_of(sub.name(), sub.multi_id())),
+            state: Mutex::new(FileState {
+                writer: None,
+                next: 0,
+            }),
+            turn: Condvar::new(),
+        }),
+        buffer: Vec::new(),
+        spill: wide.then(|| Spill {
+            sub: sub.clone(),
+            path: dir.join(format!(
+                "{}.{}.rows.partial",
+                name_of(sub.name(), sub.multi_id()),
+                sub.index()
+            )),
+            file: None,
+        }),
+        groups: 0,
+        rows: 0,
+    }))
+}
+
+/// A writing thread: takes groups until the pass hangs up.
+fn take_groups(receive: &Mutex<Receiver<Group>>, write: &(dyn Fn(Group) + Sync)) {
+    loop {
+        let group = {
+            let receive = receive.lock().unwrap_or_else(|p| p.into_inner());
+            receive.recv()
+        };
+        match group {
+            Ok(group) => write(group),
+            Err(_) => return,
+        }
+    }
+}
+
+/// Encodes a row group and appends it to its file, once the groups before it are in.
+fn write_group(group: Group, options: &Options) -> Result<()> {
+    let Group {
+        table,
+        file,
+        number,
+        rows,
+    } = group;
+    let payloads: Vec<&[u8]> = rows.chunks_exact(table.needed().max(1)).collect();
+    // The rows were cut to the bytes the columns need: none is short.
+    let batch = table.batch(&payloads, |_| 0);
+    drop(payloads);
+    // The batch holds the values: the rows can go before waiting for the turn.
+    drop(rows);
+    let mut turn = Turn::wait(&file, number);
+    let batch = batch?;
+    let writer = match &mut turn.state.writer {
+        Some(w) => w,
+        None => {
+            let schema = Arc::new(arrow_schema::Schema::new(table.schema.fields().clone()));
+            let out = BufWriter::with_capacity(FILE_BUFFER, LazyFile::new(file.partial.clone()));
+            let w = LeafWriter::try_new(out, schema, properties(&table, options))
+                .map_err(|e| write_error(&file.shown, e))?;
+            turn.state.writer.insert(w)
+        }
+    };
+    writer
+        .write_row_group(&batch)
+        .map_err(|e| write_error(&file.shown, e))?;
+    // The file is closed until its next group.
+    let out = writer.out_mut();
+    out.flush().map_err(|e| ExportError::io(e, &file.shown))?;
+    out.get_mut().release();
+    Ok(())
+}
+
+/// A file's turn: held from when the groups before this one are in until it is
+/// dropped, which gives the turn to the next group, after a failure or a panic too
+/// (the export then fails as a whole; its threads must not wait for ever).
+struct Turn<'f> {
+    file: &'f TopicFile,
+    state: std::sync::MutexGuard<'f, FileState>,
+}
+
+impl<'f> Turn<'f> {
+    fn wait(file: &'f TopicFile, number: u64) -> Turn<'f> {
+        let mut state = file.state.lock().unwrap_or_else(|p| p.into_inner());
+        while state.next != number {
+            state = file.turn.wait(state).unwrap_or_else(|p| p.into_inner());
+        }
+        Turn { file, state }
+    }
+}
+
+impl Drop for Turn<'_> {
+    fn drop(&mut self) {
+        self.state.next += 1;
+        self.file.turn.notify_all();
+    }
+}
+
+/// The write buffer of each file being written.
+const FILE_BUFFER: usize = 64 << 10;
+
+/// Writes a file's footer.
+fn close(file: &TopicFile) -> Result<()> {
+    let writer = file
+        .state
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .writer
+        .take();
+    match writer {
+        Some(w) => w.close().map_err(|e| write_error(&file.shown, e)),
+        None => Ok(()),
+    }
+}
+
+/// The names of [`Options::topics`] that the log does not have: an error, unless
+/// [`Options::skip_missing_topics`] and the log has some of them.
+fn missing_topics(log: &ULog<'_>, options: &Options) -> Result<Vec<LookupError>> {
+    let Some(names) = &options.topics else {
+        return Ok(Vec::new());
+    };
+    let missing: Vec<LookupError> = names
+        .iter()
+        .filter(|n| log.subscriptions().iter().all(|s| s.name() != n.as_str()))
+        .map(|n| LookupError::Topic(TopicNotFound::in_log(log, n, None)))
+        .collect();
+    match missing.first() {
+        Some(first) if !options.skip_missing_topics || missing.len() == names.len() => {
+            Err(first.clone().into())
+        }
+        _ => Ok(missing),
+    }
+}
+
+/// Gives the files their names (sorted by topic name and instance; a second
+/// subscription of one name and instance gets its msg_id in its name).
+fn rename(opened: &[&mut Open], dir: &Path) -> Result<Vec<Written>> {
+    let mut order: Vec<&Open> = opened.iter().map(|o| &**o).collect();
+    order.sort_by(|a, b| (&a.name, a.multi_id, a.index).cmp(&(&b.name, b.multi_id, b.index)));
+    let mut names = std::collections::HashSet::new();
+    let mut files: Vec<Written> = Vec::with_capacity(order.len());
+    for slot in order {
+        let mut name = name_of(&slot.name, slot.multi_id);
+        if !names.insert(name.clone()) {
+            name = format!(
+                "{}_msg{}.parquet",
+                name.trim_end_matches(".parquet"),
+                slot.msg_id
+            );
+            names.insert(name.clone());
+        }
+        let path = dir.join(name);
+        if let Err(e) = std::fs::rename(&slot.file.partial, &path) {
+            // None of this export's files is left.
+            for done in &files {
+                let _ = std::fs::remove_file(&done.path);
+            }
+            return Err(ExportError::io(e, &path));
+        }
+        files.push(Written {
+            topic: slot.name.clone(),
+            multi_id: slot.multi_id,
+            path,
+            rows: slot.rows,
+        });
+    }
+    Ok(files)
+}
+
+/// The rows of a wide table, kept in a file during the pass: the Parquet writer of a
+/// wide table holds some kilobytes of metadata per leaf column until its footer (about
+/// 240 MB for the widest format, 65,535 one-byte fields), so wide tables are written
+/// one at a time, after the pass, and not all held open while it goes on.
+struct Spill {
+    sub: Subscription,
+    path: PathBuf,
+    file: Option<BufWriter<LazyFile>>,
+}
+
+impl Spill {
+    fn append(&mut self, rows: &[u8]) -> Result<()> {
+        let path = &self.path;
+        let file = self.file.get_or_insert_with(|| {
+            BufWriter::with_capacity(FILE_BUFFER, LazyFile::new(path.clone()))
+        });
+        file.write_all(rows)
+            .and_then(|()| file.flush())
+            .map_err(|e| ExportError::io(e, path))?;
+        file.get_mut().release();
+        Ok(())
+    }
+}
+
+/// Held while a wide table is written (several logs exported at once write theirs one
+/// after another).
+static WIDE_TABLE: Mutex<()> = Mutex::new(());
+
+/// Writes the rows a wide table kept in its spill file as row groups, and removes the
+/// spill file; nothing for other tables.
+fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
+    let Some(spill) = slot.spill.take() else {
+        return Ok(());
+    };
+    let path = spill.path;
+    let Some(file) = spill.file else {
+        return Ok(());
+    };
+    let _alone = WIDE_TABLE.lock().unwrap_or_else(|p| p.into_inner());
+    let result = (|| {
+        let table = Arc::new(TopicTable::new(&spill.sub, options)?);
+        drop(file);
+        let mut file = File::open(&path).map_err(|e| ExportError::io(e, &path))?;
+        let mut left = slot.rows * slot.needed.max(1);
+        while left > 0 {
+            let mut rows = vec![0u8; left.min(slot.group_bytes)];
+            file.read_exact(&mut rows)
+                .map_err(|e| ExportError::io(e, &path))?;
+            left -= rows.len();
+            slot.groups += 1;
+            write_group(
+                Group {
+                    table: table.clone(),
+                    file: slot.file.clone(),
+                    number: slot.groups - 1,
+                    rows,
+                },
+                options,
+            )?;
+        }
+        Ok(())
+    })();
+    let _ = std::fs::remove_file(&path);
+    result
+}
