@@ -18,6 +18,7 @@ Wall time and peak RSS come from wait4() on each process. No timing is asserted.
 """
 
 import argparse
+import re
 import atexit
 import datetime
 import os
@@ -319,6 +320,18 @@ def measure(progs, runs, scratch):
     return results
 
 
+def log_duration(ulog, path):
+    """The log's duration in seconds, from `ulog info` (None if it has no `cut`)."""
+    if not cli_has(ulog, "cut"):
+        return None
+    text = subprocess.run([ulog, "info", path], capture_output=True, text=True).stdout
+    m = re.search(r"duration: (\d+):(\d+):(\d+)", text)
+    if not m:
+        return None
+    h, mi, se = (int(x) for x in m.groups())
+    return h * 3600 + mi * 60 + se
+
+
 def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
     b = bins
     P = []
@@ -388,6 +401,16 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
                          out_dir=True, note="Python process"))
     P.append(Program("check", "ours (ulog check)", [b["ulog"], "check", path], statuses=(0, 1),
                      note="framing, every finding, exit 1 on warnings"))
+    # Editing: a tenth of the log, from its middle, against reading it whole.
+    duration = log_duration(b["ulog"], path)
+    if duration:
+        P.append(Program("cut", "ours (ulog info)", [b["ulog"], "info", path],
+                         note="reads and parses the whole log: the time to beat"))
+        P.append(Program("cut", "ours (ulog cut, middle 10 %)",
+                         [b["ulog"], "cut", path, "-o", "{out}/cut.ulg",
+                          "--start", f"{duration * 0.45:.3f}", "--end", f"{duration * 0.55:.3f}"],
+                         out_dir=True, baseline=False, versus="ours (ulog info)",
+                         note="all topics, 10 % of the time; ratio against ulog info"))
     # Parquet export: run when the CLI was built with its `parquet` subcommand.
     if parquet:
         P.append(Program("Parquet export", "ours (ulog parquet)",
@@ -572,6 +595,8 @@ def targets(results, size):
           t("px4-ulog master (framing)"), 1.0)
     ratio("generic decode (stream) ≤ 0.5 × px4-ulog master stream", t("ours (stream)"),
           t("px4-ulog master (stream)"), 0.5)
+    ratio("cutting 10 % of the log < reading it (ulog info)", t("ours (ulog cut, middle 10 %)"),
+          t("ours (ulog info)"), 1.0)
     return out
 
 

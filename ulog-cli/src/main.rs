@@ -8,6 +8,7 @@
 mod check;
 mod codegen;
 mod csv;
+mod cut;
 mod describe;
 mod dump;
 mod failure;
@@ -27,7 +28,7 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// PX4 ULog flight logs: summary, check, dump, CSV and Parquet export, plots.
+/// PX4 ULog flight logs: summary, check, dump, cut, CSV and Parquet export, plots.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -44,6 +45,7 @@ enum Command {
     Messages(messages::Args),
     Params(params::Args),
     Csv(csv::Args),
+    Cut(cut::Args),
     Check(check::Args),
     Codegen(codegen::Args),
     Dump(dump::Args),
@@ -60,6 +62,7 @@ fn main() -> ExitCode {
         Command::Messages(a) => done(messages::run(&a)),
         Command::Params(a) => done(params::run(&a)),
         Command::Csv(a) => done(csv::run(&a)),
+        Command::Cut(a) => done(cut::run(&a)),
         Command::Check(a) => check::run(&a),
         Command::Codegen(a) => done(codegen::run(&a)),
         Command::Dump(a) => done(dump::run(&a)),

@@ -11,6 +11,7 @@ const COMMANDS: &[(&str, &str)] = &[
     ("messages", "messages.rs"),
     ("params", "params.rs"),
     ("csv", "csv.rs"),
+    ("cut", "cut.rs"),
     ("check", "check.rs"),
     ("codegen", "codegen.rs"),
     ("dump", "dump.rs"),

@@ -25,6 +25,7 @@
 //! | write | [`LogWriter`], then [`DataWriter`] |
 //! | append (crash data) | [`append`] |
 //! | copy byte for byte | [`copy_log`] |
+//! | cut a time window, keep or drop topics, map payloads | [`Edit`] |
 //!
 //! A pass ([`scan`], [`scan_topics`], [`load_columns`]) reads any [`Source`]: bytes, a
 //! [`LogFile`], a parsed [`ULog`], any `Read`, a file by path. How it reads (a second
@@ -103,6 +104,7 @@ pub use typed::topics::ULogTopics;
 pub use value::Value;
 pub use write::append::append;
 pub use write::copy::copy_log;
+pub use write::edit::Edit;
 pub use write::error::WriteError;
 pub use write::writer::{DataWriter, LogWriter};
 

@@ -82,7 +82,7 @@ pub enum WriteErrorKind {
     NoFlagBits,
     /// Appending: all three appended offsets of the log are in use.
     NoFreeAppendedOffset,
-    /// Appending: the log has no such topic instance.
+    /// Appending: the log has no such topic instance; editing: no topic of that name.
     TopicNotFound(TopicNotFound),
     /// Appending: the log's format of a topic is not exactly the binding's, so values
     /// of the binding cannot be written to its subscription.

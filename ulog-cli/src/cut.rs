@@ -1,0 +1,167 @@
+//! `ulog cut`: a time window and a choice of topics of a log, as a valid log.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use ulog_core::write::WriteErrorKind;
+use ulog_core::Edit;
+
+use crate::failure::{io_text, Failure, Status};
+use crate::input;
+
+/// Write a part of a log as a log of its own: the data messages with `--start ≤
+/// timestamp < --end` (each topic by its own timestamp) of the topics chosen, with the
+/// header, information, default parameters and the formats and subscriptions of the
+/// kept topics; parameters as they were at `--start` (changes before it folded into the
+/// initial values, changes inside the window kept as changes); logged messages,
+/// dropouts and sync markers inside the window. Appended data is written as data.
+/// Damaged stretches of the input are not copied (a line on stderr says how many). pyulog,
+/// PlotJuggler and this reader read the result.
+///
+/// Times are seconds since the log's start (its header timestamp): `90`, `1:30` or
+/// `1:30.5` (also `1:02:03`); `--start-us`/`--end-us` take the log's own timestamps
+/// (microseconds).
+#[derive(Debug, clap::Args)]
+#[command(
+    about = "A time window and a choice of topics of a log, as a valid log",
+    long_about
+)]
+pub struct Args {
+    /// The ULog file.
+    file: PathBuf,
+    /// The log to write (replaced if it exists; never the input).
+    #[arg(short = 'o', long = "output", value_name = "OUT.ulg")]
+    output: PathBuf,
+    /// Keep data from this time on (seconds since the log's start).
+    #[arg(long, value_name = "T", value_parser = seconds, conflicts_with = "start_us")]
+    start: Option<u64>,
+    /// Keep data before this time (seconds since the log's start).
+    #[arg(long, value_name = "T", value_parser = seconds, conflicts_with = "end_us")]
+    end: Option<u64>,
+    /// Keep data from this timestamp on (microseconds, as logged).
+    #[arg(long, value_name = "US")]
+    start_us: Option<u64>,
+    /// Keep data before this timestamp (microseconds, as logged).
+    #[arg(long, value_name = "US")]
+    end_us: Option<u64>,
+    /// Only these topics (comma-separated names).
+    #[arg(
+        short = 'm',
+        long = "messages",
+        value_name = "TOPICS",
+        conflicts_with = "exclude"
+    )]
+    messages: Option<String>,
+    /// Leave these topics out (comma-separated names).
+    #[arg(long, value_name = "TOPICS")]
+    exclude: Option<String>,
+}
+
+/// A time as microseconds: `S`, `M:S` or `H:M:S`, seconds with a fraction.
+fn seconds(text: &str) -> Result<u64, String> {
+    let bad = || format!("`{text}` is not a time (90, 1:30 or 1:30.5)");
+    let mut total = 0f64;
+    let parts: Vec<&str> = text.split(':').collect();
+    if parts.len() > 3 {
+        return Err(bad());
+    }
+    for (i, part) in parts.iter().enumerate() {
+        let last = i + 1 == parts.len();
+        let value: f64 = if last {
+            part.parse().map_err(|_| bad())?
+        } else {
+            part.parse::<u64>().map_err(|_| bad())? as f64
+        };
+        if !value.is_finite() || value < 0.0 || (!last && i > 0 && value >= 60.0) {
+            return Err(bad());
+        }
+        if last && parts.len() > 1 && value >= 60.0 {
+            return Err(bad());
+        }
+        total = total * 60.0 + value;
+    }
+    Ok((total * 1e6).round() as u64)
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let name = args.file.display().to_string();
+    if same_file(&args.file, &args.output) {
+        return Err(Failure::about(&name, "the output would replace the input"));
+    }
+    let file = input::open(&args.file)?;
+    let log = input::parse(&name, file.bytes())?;
+    let start = log.start_timestamp();
+    let from = args
+        .start_us
+        .or(args.start.map(|s| start.saturating_add(s)));
+    let to = args.end_us.or(args.end.map(|s| start.saturating_add(s)));
+    let mut edit = Edit::new().window(from, to);
+    if let Some(list) = &args.messages {
+        edit = edit.only(input::topic_list(&name, &log, list)?);
+    }
+    if let Some(list) = &args.exclude {
+        edit = edit.exclude(input::topic_list(&name, &log, list)?);
+    }
+    let shown = args.output.display().to_string();
+    let mut tmp = args.output.as_os_str().to_owned();
+    tmp.push(".partial");
+    let tmp = PathBuf::from(tmp);
+    let out = std::fs::File::create(&tmp).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+    let result = edit.write(&log, std::io::BufWriter::with_capacity(1 << 20, out));
+    let summary = match result {
+        Ok(s) => s,
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(match e.kind() {
+                WriteErrorKind::Io(_) => Failure::Message(Status::Io, format!("{shown}: {e}")),
+                WriteErrorKind::TopicNotFound(_) => Failure::unknown_name(&name, &e),
+                _ => Failure::about(&name, &e),
+            });
+        }
+    };
+    std::fs::rename(&tmp, &args.output).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Failure::unreadable(&shown, io_text(&e))
+    })?;
+    if !summary.skipped.is_empty() {
+        let bytes: u64 = summary.skipped.iter().map(|f| f.len).sum();
+        let _ = writeln!(
+            std::io::stderr(),
+            "ulog: {name}: {} damaged stretch{} ({bytes} bytes) not copied (`ulog check` lists them)",
+            summary.skipped.len(),
+            if summary.skipped.len() == 1 { "" } else { "es" },
+        );
+    }
+    println!(
+        "Writing {shown} ({} data messages, {} left out)",
+        summary.rows, summary.rows_left_out
+    );
+    Ok(())
+}
+
+/// Whether two paths name the same existing file.
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_are_seconds_minutes_and_hours() {
+        assert_eq!(seconds("90"), Ok(90_000_000));
+        assert_eq!(seconds("1:30"), Ok(90_000_000));
+        assert_eq!(seconds("1:30.5"), Ok(90_500_000));
+        assert_eq!(seconds("1:02:03"), Ok(3_723_000_000));
+        assert_eq!(seconds("0.000001"), Ok(1));
+        for bad in [
+            "", "x", "-1", "1:60", "1:2:3:4", "1.5:30", "nan", "inf", "1:61:00",
+        ] {
+            assert!(seconds(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! `ulog cut`: times as seconds since the start (`90`, `1:30`, `1:30.5`) or raw
+//! microseconds, topic choices, the output checked with the reader, and the failures.
+
+mod common;
+
+use ulog_core::ULog;
+
+#[test]
+fn cut_keeps_the_window_and_the_topics_asked_for() {
+    let log = common::sample_file("cut_window");
+    let dir = log.parent().unwrap().to_owned();
+    let bytes = std::fs::read(&log).unwrap();
+    let original = ULog::parse(&bytes).unwrap();
+    let start = original.start_timestamp();
+    let topic = original
+        .topics()
+        .find(|t| t.len() > 2 && t.timestamp_field().is_some())
+        .expect("a topic with rows");
+    let times = topic.timestamps();
+    let (from, to) = (times[1], times[times.len() - 1]);
+    let name = topic.name().to_owned();
+
+    // The same window given as seconds and as microseconds.
+    let secs = |us: u64| format!("{}", (us - start) as f64 / 1e6);
+    let a = dir.join("a.ulg");
+    let out = common::ulog_ok([
+        "cut",
+        log.to_str().unwrap(),
+        "-o",
+        a.to_str().unwrap(),
+        "--start",
+        &secs(from),
+        "--end",
+        &secs(to),
+        "-m",
+        &name,
+    ]);
+    assert!(
+        out.starts_with(&format!("Writing {}", a.display())),
+        "{out}"
+    );
+    let b = dir.join("b.ulg");
+    common::ulog_ok([
+        "cut",
+        log.to_str().unwrap(),
+        "-o",
+        b.to_str().unwrap(),
+        "--start-us",
+        &from.to_string(),
+        "--end-us",
+        &to.to_string(),
+        "-m",
+        &name,
+    ]);
+    let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+    assert!(a == b, "seconds and microseconds give the same cut");
+    let cut = ULog::parse(&a).unwrap();
+    assert!(cut.topics().all(|t| t.name() == name));
+    let kept = cut.topic(&name, topic.multi_id()).unwrap().timestamps();
+    let expected: Vec<u64> = times
+        .iter()
+        .copied()
+        .filter(|&t| from <= t && t < to)
+        .collect();
+    assert_eq!(kept, expected);
+
+    // --exclude leaves the topic out, and keeps the others.
+    let c = dir.join("c.ulg");
+    common::ulog_ok([
+        "cut",
+        log.to_str().unwrap(),
+        "-o",
+        c.to_str().unwrap(),
+        "--exclude",
+        &name,
+    ]);
+    let c = std::fs::read(c).unwrap();
+    let cut = ULog::parse(&c).unwrap();
+    assert!(cut.topic_instances(&name).is_empty());
+    assert_eq!(
+        cut.topics().count(),
+        original.topics().filter(|t| t.name() != name).count()
+    );
+}
+
+#[test]
+fn cut_failures_are_one_line_with_their_status() {
+    let log = common::sample_file("cut_failures");
+    let dir = log.parent().unwrap().to_owned();
+    let out_path = dir.join("out.ulg");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "cut",
+            log.to_str().unwrap(),
+            "-o",
+            out_path.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        common::ulog(args)
+    };
+    let stderr = |o: &std::process::Output| String::from_utf8_lossy(&o.stderr).into_owned();
+
+    let out = run(&["--start", "1:75"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("`1:75` is not a time"),
+        "{}",
+        stderr(&out)
+    );
+
+    let out = run(&["-m", "esc_statsu"]);
+    assert_eq!(out.status.code(), Some(5));
+    assert!(
+        stderr(&out).contains("did you mean `esc_status`?"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!out_path.exists(), "nothing written for an unknown topic");
+
+    let out = common::ulog(["cut", log.to_str().unwrap(), "-o", log.to_str().unwrap()]);
+    assert_ne!(out.status.code(), Some(0));
+    assert!(
+        stderr(&out).contains("would replace the input"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        std::fs::read(&log).unwrap(),
+        ulog_core::testing::sample_log()
+    );
+
+    // Damage is not copied, and said.
+    let mut damaged = ulog_core::testing::sample_log();
+    let at = damaged.len() / 2;
+    damaged[at..at + 40].fill(0xff);
+    let bad = dir.join("damaged.ulg");
+    std::fs::write(&bad, &damaged).unwrap();
+    let out = common::ulog([
+        "cut",
+        bad.to_str().unwrap(),
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stderr(&out).contains("not copied"), "{}", stderr(&out));
+    let cut = std::fs::read(&out_path).unwrap();
+    assert!(ULog::parse(&cut)
+        .unwrap()
+        .findings()
+        .iter()
+        .all(|f| !f.is_damage()));
+}
