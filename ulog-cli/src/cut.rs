@@ -1,10 +1,10 @@
 //! `ulog cut`: a time window and a choice of topics of a log, as a valid log.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use ulog_core::write::WriteErrorKind;
-use ulog_core::Edit;
+use ulog_core::{Edit, ULog};
 
 use crate::failure::{io_text, Failure, Status};
 use crate::input;
@@ -85,9 +85,6 @@ fn seconds(text: &str) -> Result<u64, String> {
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    if same_file(&args.file, &args.output) {
-        return Err(Failure::about(&name, "the output would replace the input"));
-    }
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
     let start = log.start_timestamp();
@@ -102,24 +99,40 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(list) = &args.exclude {
         edit = edit.exclude(input::topic_list(&name, &log, list)?);
     }
-    let shown = args.output.display().to_string();
-    let mut tmp = args.output.as_os_str().to_owned();
+    write_edit(&name, &args.file, &args.output, &log, edit)
+}
+
+/// Writes `edit` of `log` (the file `input`, named `name`) to `output`: under a
+/// temporary name, renamed when done; never over the input. Says what was written,
+/// and on stderr what damage was not copied.
+pub fn write_edit(
+    name: &str,
+    input: &Path,
+    output: &Path,
+    log: &ULog<'_>,
+    edit: Edit<'_>,
+) -> Result<(), Failure> {
+    if same_file(input, output) {
+        return Err(Failure::about(name, "the output would replace the input"));
+    }
+    let shown = output.display().to_string();
+    let mut tmp = output.as_os_str().to_owned();
     tmp.push(".partial");
     let tmp = PathBuf::from(tmp);
     let out = std::fs::File::create(&tmp).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-    let result = edit.write(&log, std::io::BufWriter::with_capacity(1 << 20, out));
+    let result = edit.write(log, std::io::BufWriter::with_capacity(1 << 20, out));
     let summary = match result {
         Ok(s) => s,
         Err(e) => {
             let _ = std::fs::remove_file(&tmp);
             return Err(match e.kind() {
                 WriteErrorKind::Io(_) => Failure::Message(Status::Io, format!("{shown}: {e}")),
-                WriteErrorKind::TopicNotFound(_) => Failure::unknown_name(&name, &e),
-                _ => Failure::about(&name, &e),
+                WriteErrorKind::TopicNotFound(_) => Failure::unknown_name(name, &e),
+                _ => Failure::about(name, &e),
             });
         }
     };
-    std::fs::rename(&tmp, &args.output).map_err(|e| {
+    std::fs::rename(&tmp, output).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         Failure::unreadable(&shown, io_text(&e))
     })?;
@@ -140,7 +153,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// Whether two paths name the same existing file.
-fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(a), Ok(b)) => a == b,
         _ => false,

@@ -33,8 +33,7 @@ impl Status {
 /// The `Exit status` section of `ulog --help`.
 pub const EXIT_STATUS_HELP: &str = "\
 Exit status:
-  0  success (for `check`: every file conforms to the spec)
-  1  `check` found damage or departures from the spec
+  0  success; 1  `check` found damage or departures from the spec
   2  usage error (unknown option, missing argument)
   3  a file could not be read or written (missing, a directory, no permission)
   4  a file is not a ULog log, or one the spec says to refuse

@@ -5,6 +5,7 @@
 // The one exception, with its safety argument: Ryu writing into a buffer (numfmt.rs).
 #![deny(unsafe_code)]
 
+mod anonymise;
 mod check;
 mod codegen;
 mod csv;
@@ -46,6 +47,7 @@ enum Command {
     Params(params::Args),
     Csv(csv::Args),
     Cut(cut::Args),
+    Anonymise(anonymise::Args),
     Check(check::Args),
     Codegen(codegen::Args),
     Dump(dump::Args),
@@ -63,6 +65,7 @@ fn main() -> ExitCode {
         Command::Params(a) => done(params::run(&a)),
         Command::Csv(a) => done(csv::run(&a)),
         Command::Cut(a) => done(cut::run(&a)),
+        Command::Anonymise(a) => done(anonymise::run(&a)),
         Command::Check(a) => check::run(&a),
         Command::Codegen(a) => done(codegen::run(&a)),
         Command::Dump(a) => done(dump::run(&a)),

@@ -150,3 +150,52 @@ fn cut_failures_are_one_line_with_their_status() {
         .iter()
         .all(|f| !f.is_damage()));
 }
+
+#[test]
+fn anonymise_leaves_out_the_identity_and_moves_positions_as_asked() {
+    use ulog_core::testing::LogBuilder;
+    let dir = common::scratch("anonymise_cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let uuid = "0004004B3038511834303533";
+    let mut b = LogBuilder::new(1, 0);
+    b.info_str("sys_uuid", uuid);
+    b.info_str("sys_name", "PX4");
+    b.format("home_position:uint64_t timestamp;double lat;double lon;float alt;");
+    b.subscribe(0, 0, "home_position");
+    let row = |t: u64, lat: f64, lon: f64| {
+        [
+            &t.to_le_bytes()[..],
+            &lat.to_le_bytes(),
+            &lon.to_le_bytes(),
+            &12.5f32.to_le_bytes(),
+        ]
+        .concat()
+    };
+    b.data(0, &row(1_000, 47.397742, 8.545594));
+    b.data(0, &row(2_000, 47.397842, 8.545694));
+    let input = dir.join("in.ulg");
+    std::fs::write(&input, b.bytes()).unwrap();
+    let output = dir.join("out.ulg");
+    let (i, o) = (input.to_str().unwrap(), output.to_str().unwrap());
+
+    common::ulog_ok(["anonymise", i, "-o", o, "--to", "-33.9,151.2"]);
+    let out = std::fs::read(&output).unwrap();
+    assert!(!out.windows(uuid.len()).any(|w| w == uuid.as_bytes()));
+    let log = ULog::parse(&out).unwrap();
+    assert_eq!(log.info_value("sys_name").unwrap().to_string(), "PX4");
+    let home = log.topic("home_position", 0).unwrap();
+    let lat = home.field("lat").unwrap();
+    let lon = home.field("lon").unwrap();
+    let first = home.payload(0).unwrap();
+    let at = |f: &ulog_core::FieldReader| f.read(first).and_then(|v| v.as_f64()).unwrap();
+    assert!((at(&lat) + 33.9).abs() < 1e-9 && (at(&lon) - 151.2).abs() < 1e-9);
+    let alt = home.field("alt").unwrap();
+    assert_eq!(alt.read(first).and_then(|v| v.as_f64()), Some(12.5));
+
+    common::ulog_ok(["anonymise", i, "-o", o, "--keep", "sys_uuid"]);
+    let out = std::fs::read(&output).unwrap();
+    assert!(out.windows(uuid.len()).any(|w| w == uuid.as_bytes()));
+
+    let bad = common::ulog(["anonymise", i, "-o", o, "--to", "91,0"]);
+    assert_eq!(bad.status.code(), Some(2));
+}

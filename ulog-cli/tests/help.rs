@@ -12,6 +12,7 @@ const COMMANDS: &[(&str, &str)] = &[
     ("params", "params.rs"),
     ("csv", "csv.rs"),
     ("cut", "cut.rs"),
+    ("anonymise", "anonymise.rs"),
     ("check", "check.rs"),
     ("codegen", "codegen.rs"),
     ("dump", "dump.rs"),

@@ -258,6 +258,12 @@ impl TopicTable {
         self.needed
     }
 
+    /// Column `i` of the rows `payloads`, each at least [`TopicTable::needed`] bytes.
+    pub(crate) fn column(&self, i: usize, payloads: &[&[u8]]) -> Result<ArrayRef> {
+        let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();
+        build(&self.columns[i], self.schema.field(i).data_type(), &bases)
+    }
+
     /// The record batch of `payloads` (rows of the topic, in order); `offset` gives the
     /// file offset of a row (for errors).
     pub(crate) fn batch(

@@ -56,6 +56,28 @@ impl<W: Write + Send> LeafWriter<W> {
         Ok(())
     }
 
+    /// Writes a row group of `rows` rows whose top-level columns `column` builds, one
+    /// at a time: each is encoded and dropped before the next is built, so a row
+    /// group holds one column's values at a time, not the whole batch.
+    pub(super) fn write_columns(
+        &mut self,
+        rows: usize,
+        mut column: impl FnMut(usize) -> Result<ArrayRef>,
+    ) -> Result<()> {
+        if rows == 0 {
+            return Ok(());
+        }
+        let mut group = self.file.next_row_group()?;
+        for (i, field) in self.schema.fields().iter().enumerate() {
+            let values = column(i)?;
+            for_each_leaf(field, &values, &mut |field, column| {
+                write_leaf(&mut group, &self.props, field, column)
+            })?;
+        }
+        group.close()?;
+        Ok(())
+    }
+
     /// The writer the file goes to (what the Parquet writer buffers not yet in it).
     pub(super) fn out_mut(&mut self) -> &mut W {
         self.file.inner_mut()

@@ -112,13 +112,13 @@ pub struct Options {
     /// Threads writing row groups while the log is read (`0` or `1`: on the calling
     /// thread, between reads). The files are the same whatever the number.
     pub threads: usize,
-    /// Bytes of rows [`write_parquet`] holds for all topics together before it writes
-    /// the largest topic's rows out as a row group (each topic's row group is also
-    /// written when it is full): with the row groups on their way (one per thread, one
-    /// waiting for a thread and one being handed over, at most 16 MiB of rows each,
-    /// with their Arrow arrays), this bounds the memory of an export whatever the size
-    /// of the log. Smaller budgets cut more, smaller row groups of the rarer topics. At
-    /// least 1; default 32 MiB.
+    /// Bytes of rows [`write_parquet`] holds for all topics together: past it, the
+    /// topic holding the most writes them out, as a row group when they make 4 MiB or
+    /// more, else into a temporary file beside the output, read back when they make
+    /// one (each topic's row group is also written when it is full). With the row
+    /// groups on their way (one per thread, one waiting for a thread and one being
+    /// handed over, at most 16 MiB of rows each), this bounds the memory of an export
+    /// whatever the size of the log. At least 1; default 32 MiB.
     pub buffer_bytes: usize,
     /// A name of [`Options::topics`] that the log lacks is listed in
     /// [`Export::missing_topics`] instead of failing the export (which still fails

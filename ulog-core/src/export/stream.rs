@@ -36,6 +36,14 @@ use super::{name_of, Options, METADATA_FILE};
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
 
+/// The smallest row group cut when the rows held pass the budget; fewer rows are put
+/// aside in a file instead, until they make one. On the two ≈300 MB logs (zstd), 1, 2,
+/// 4, 8 and 16 MiB gave files 1.48/1.22, 1.30/1.13, 1.16/1.08, 1.09/1.04 and 1.04/1.02
+/// times flight-review-rs's size, and peaks of 122/124, 139/152, 163/168, 271/221 and
+/// 282/299 MB (the larger row groups come with more memory held by the allocator; see
+/// bench/README.md).
+const MIN_GROUP_BYTES: usize = 4 << 20;
+
 /// Bytes of the log framed between two calls of the progress callback.
 const PROGRESS_STEP: u64 = 8 << 20;
 
@@ -89,12 +97,17 @@ struct Open {
     /// The bytes of each row the columns read ([`TopicTable::needed`]).
     needed: usize,
     file: Arc<TopicFile>,
-    /// Rows not written yet.
+    /// Rows held, after those in `spill`.
     buffer: Vec<u8>,
-    /// For a wide table (more than [`WIDE_LEAVES`] leaf columns): the file its rows
-    /// go to during the pass, written out as Parquet after it, one wide table at a
-    /// time (see [`write_wide`]).
-    spill: Option<Spill>,
+    /// Rows put aside in a file when the rows held by all topics passed the budget
+    /// and this topic, holding the most, had too few for a row group of
+    /// [`MIN_GROUP_BYTES`]; they come before `buffer`'s, and the next row group is cut
+    /// from both (small row groups compress worse: see [`MIN_GROUP_BYTES`]).
+    spill: Spill,
+    /// A wide table (more than [`WIDE_LEAVES`] leaf columns): all its rows go to the
+    /// spill file, written out as Parquet after the pass, one wide table at a time
+    /// (see [`write_wide`]).
+    wide: bool,
     /// Bytes of a full row group.
     group_bytes: usize,
     /// Row groups cut so far.
@@ -173,15 +186,18 @@ pub(super) fn export(
         } else {
             &to_workers
         };
+        // A row group of the rows put aside and those held.
         let cut = |slot: &mut Open, buffered: &mut usize| {
             *buffered -= slot.buffer.len();
-            let rows = std::mem::take(&mut slot.buffer);
-            if let Some(spill) = &mut slot.spill {
-                if let Err(e) = spill.append(&rows) {
-                    fail(e);
+            let held = std::mem::take(&mut slot.buffer);
+            let rows = match slot.spill.take() {
+                Ok(mut rows) if !rows.is_empty() => {
+                    rows.extend_from_slice(&held);
+                    rows
                 }
-                return;
-            }
+                Ok(_) => held,
+                Err(e) => return fail(e),
+            };
             let Some(table) = &slot.table else {
                 return;
             };
@@ -192,6 +208,15 @@ pub(super) fn export(
                 number: slot.groups - 1,
                 rows,
             });
+        };
+        // The rows held, put aside.
+        let put_aside = |slot: &mut Open, buffered: &mut usize| {
+            *buffered -= slot.buffer.len();
+            // Their memory goes too: the budget counts what is held.
+            let held = std::mem::take(&mut slot.buffer);
+            if let Err(e) = slot.spill.append(&held) {
+                fail(e);
+            }
         };
         let result = drive_keeping(source, true, kept, &mut |r| {
             let i = r.topic.index();
@@ -236,9 +261,14 @@ pub(super) fn export(
                 slot.buffer.push(0);
             }
             buffered += needed.max(1);
-            if slot.buffer.len() >= slot.group_bytes {
+            if slot.wide {
+                if slot.buffer.len() >= slot.group_bytes {
+                    put_aside(slot, &mut buffered);
+                }
+            } else if slot.buffer.len() + slot.spill.bytes >= slot.group_bytes {
                 cut(slot, &mut buffered);
-            } else if buffered > budget {
+            }
+            if buffered > budget {
                 let largest = slots
                     .iter_mut()
                     .filter_map(|s| match s {
@@ -247,7 +277,12 @@ pub(super) fn export(
                     })
                     .max_by_key(|o| o.buffer.len());
                 if let Some(slot) = largest {
-                    cut(slot, &mut buffered);
+                    let enough = MIN_GROUP_BYTES.min(slot.group_bytes);
+                    if !slot.wide && slot.buffer.len() + slot.spill.bytes >= enough {
+                        cut(slot, &mut buffered);
+                    } else {
+                        put_aside(slot, &mut buffered);
+                    }
                 }
             }
             if failed.load(Ordering::Relaxed) {
@@ -259,7 +294,9 @@ pub(super) fn export(
         if result.is_ok() && !failed.load(Ordering::Relaxed) {
             for slot in &mut slots {
                 if let Slot::Open(slot) = slot {
-                    if !slot.buffer.is_empty() {
+                    if slot.wide {
+                        put_aside(slot, &mut buffered);
+                    } else if !slot.buffer.is_empty() || slot.spill.bytes > 0 {
                         cut(slot, &mut buffered);
                     }
                 }
@@ -288,6 +325,8 @@ pub(super) fn export(
         for slot in opened.iter_mut() {
             write_wide(slot, options)?;
             close(&slot.file)?;
+            // Made only by topics that put rows aside.
+            let _ = std::fs::remove_file(&slot.spill.path);
         }
         // Everything but the data, as a log of its own.
         let mut bytes = Vec::with_capacity(HEADER_SIZE + kept.bytes.len());
@@ -334,9 +373,7 @@ pub(super) fn export(
         let _ = std::fs::remove_file(&metadata_partial);
         for slot in &opened {
             let _ = std::fs::remove_file(&slot.file.partial);
-            if let Some(spill) = &slot.spill {
-                let _ = std::fs::remove_file(&spill.path);
-            }
+            let _ = std::fs::remove_file(&slot.spill.path);
         }
         for folder in &made {
             // Only when nothing else came into it meanwhile.
@@ -401,7 +438,7 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
             turn: Condvar::new(),
         }),
         buffer: Vec::new(),
-        spill: wide.then(|| Spill {
+        spill: Spill {
             sub: sub.clone(),
             path: dir.join(format!(
                 "{}.{}.rows.partial",
@@ -409,7 +446,9 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
                 sub.index()
             )),
             file: None,
-        }),
+            bytes: 0,
+        },
+        wide,
         groups: 0,
         rows: 0,
     }))
@@ -429,7 +468,8 @@ fn take_groups(receive: &Mutex<Receiver<Group>>, write: &(dyn Fn(Group) + Sync))
     }
 }
 
-/// Encodes a row group and appends it to its file, once the groups before it are in.
+/// Encodes a row group and appends it to its file, once the groups before it are in:
+/// column by column, so that it holds its rows and one column's values.
 fn write_group(group: Group, options: &Options) -> Result<()> {
     let Group {
         table,
@@ -438,13 +478,7 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
         rows,
     } = group;
     let payloads: Vec<&[u8]> = rows.chunks_exact(table.needed().max(1)).collect();
-    // The rows were cut to the bytes the columns need: none is short.
-    let batch = table.batch(&payloads, |_| 0);
-    drop(payloads);
-    // The batch holds the values: the rows can go before waiting for the turn.
-    drop(rows);
     let mut turn = Turn::wait(&file, number);
-    let batch = batch?;
     let writer = match &mut turn.state.writer {
         Some(w) => w,
         None => {
@@ -455,8 +489,13 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
             turn.state.writer.insert(w)
         }
     };
+    // The rows were cut to the bytes the columns need: none is short.
     writer
-        .write_row_group(&batch)
+        .write_columns(payloads.len(), |i| {
+            table
+                .column(i, &payloads)
+                .map_err(|e| parquet::errors::ParquetError::External(Box::new(e)))
+        })
         .map_err(|e| write_error(&file.shown, e))?;
     // The file is closed until its next group.
     let out = writer.out_mut();
@@ -561,18 +600,26 @@ fn rename(opened: &[&mut Open], dir: &Path) -> Result<Vec<Written>> {
     Ok(files)
 }
 
-/// The rows of a wide table, kept in a file during the pass: the Parquet writer of a
-/// wide table holds some kilobytes of metadata per leaf column until its footer (about
-/// 240 MB for the widest format, 65,535 one-byte fields), so wide tables are written
-/// one at a time, after the pass, and not all held open while it goes on.
+/// Rows put aside in a file during the pass (the file is made when rows first come,
+/// and emptied when they are taken back).
+///
+/// The rows of a wide table all go there: the Parquet writer of a wide table holds
+/// some kilobytes of metadata per leaf column until its footer (about 240 MB for the
+/// widest format, 65,535 one-byte fields), so wide tables are written one at a time,
+/// after the pass, and not all held open while it goes on.
 struct Spill {
     sub: Subscription,
     path: PathBuf,
     file: Option<BufWriter<LazyFile>>,
+    /// Bytes in the file.
+    bytes: usize,
 }
 
 impl Spill {
     fn append(&mut self, rows: &[u8]) -> Result<()> {
+        if rows.is_empty() {
+            return Ok(());
+        }
         let path = &self.path;
         let file = self.file.get_or_insert_with(|| {
             BufWriter::with_capacity(FILE_BUFFER, LazyFile::new(path.clone()))
@@ -581,7 +628,18 @@ impl Spill {
             .and_then(|()| file.flush())
             .map_err(|e| ExportError::io(e, path))?;
         file.get_mut().release();
+        self.bytes += rows.len();
         Ok(())
+    }
+
+    /// The rows in the file, which is emptied (the next rows start it again).
+    fn take(&mut self) -> Result<Vec<u8>> {
+        if self.file.take().is_none() {
+            return Ok(Vec::new());
+        }
+        self.bytes = 0;
+        let rows = std::fs::read(&self.path).map_err(|e| ExportError::io(e, &self.path))?;
+        Ok(rows)
     }
 }
 
@@ -592,19 +650,15 @@ static WIDE_TABLE: Mutex<()> = Mutex::new(());
 /// Writes the rows a wide table kept in its spill file as row groups, and removes the
 /// spill file; nothing for other tables.
 fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
-    let Some(spill) = slot.spill.take() else {
+    if !slot.wide || slot.spill.file.take().is_none() {
         return Ok(());
-    };
-    let path = spill.path;
-    let Some(file) = spill.file else {
-        return Ok(());
-    };
+    }
+    let path = slot.spill.path.clone();
     let _alone = WIDE_TABLE.lock().unwrap_or_else(|p| p.into_inner());
     let result = (|| {
-        let table = Arc::new(TopicTable::new(&spill.sub, options)?);
-        drop(file);
+        let table = Arc::new(TopicTable::new(&slot.spill.sub, options)?);
         let mut file = File::open(&path).map_err(|e| ExportError::io(e, &path))?;
-        let mut left = slot.rows * slot.needed.max(1);
+        let mut left = slot.spill.bytes;
         while left > 0 {
             let mut rows = vec![0u8; left.min(slot.group_bytes)];
             file.read_exact(&mut rows)
@@ -623,6 +677,6 @@ fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
         }
         Ok(())
     })();
-    let _ = std::fs::remove_file(&path);
+    slot.spill.bytes = 0;
     result
 }

@@ -67,6 +67,7 @@ pub struct Edit<'f> {
     end: Option<u64>,
     only: Option<Vec<String>>,
     exclude: Vec<String>,
+    drop_info: Vec<String>,
     map: Option<Mapper<'f>>,
 }
 
@@ -77,6 +78,7 @@ impl core::fmt::Debug for Edit<'_> {
             .field("end", &self.end)
             .field("only", &self.only)
             .field("exclude", &self.exclude)
+            .field("drop_info", &self.drop_info)
             .field("map", &self.map.is_some())
             .finish()
     }
@@ -115,9 +117,17 @@ impl<'f> Edit<'f> {
         self
     }
 
-    /// Leaves these topics out (every instance of each).
+    /// Leaves these topics out (every instance of each; added to those left out
+    /// before).
     pub fn exclude<S: Into<String>>(mut self, topics: impl IntoIterator<Item = S>) -> Edit<'f> {
-        self.exclude = topics.into_iter().map(Into::into).collect();
+        self.exclude.extend(topics.into_iter().map(Into::into));
+        self
+    }
+
+    /// Leaves out the information and multi-information messages of these keys
+    /// (added to those left out before).
+    pub fn drop_info<S: Into<String>>(mut self, keys: impl IntoIterator<Item = S>) -> Edit<'f> {
+        self.drop_info.extend(keys.into_iter().map(Into::into));
         self
     }
 
@@ -280,11 +290,10 @@ impl<'f> Edit<'f> {
                     summary.rows += 1;
                     true
                 }
-                Message::Format(_)
-                | Message::Info(_)
-                | Message::MultiInfo { .. }
-                | Message::DefaultParam { .. }
-                | Message::Unknown { .. } => true,
+                Message::Info(kv) | Message::MultiInfo { kv, .. } => {
+                    !self.drop_info.iter().any(|k| *k == kv.name())
+                }
+                Message::Format(_) | Message::DefaultParam { .. } | Message::Unknown { .. } => true,
             };
             if keep {
                 w.message(data[offset + 2], &[payload])?;

@@ -3,6 +3,7 @@
 //! (a time window, a choice of topics, payloads mapped: [`Edit`](crate::Edit)), and
 //! appending crash data to an existing log.
 
+pub(crate) mod anonymise;
 pub(crate) mod append;
 pub(crate) mod copy;
 pub(crate) mod edit;
@@ -10,6 +11,10 @@ pub(crate) mod error;
 pub(crate) mod raw;
 pub(crate) mod writer;
 
+pub use anonymise::{
+    Anonymise, ARRAY_POSITIONS, IDENTIFYING_KEYS, POSITION_COMMANDS, POSITION_FIELDS,
+    RAW_GPS_TOPICS, UTC_KEYS,
+};
 pub use append::Appender;
 pub use edit::EditSummary;
 pub use error::WriteErrorKind;
