@@ -50,7 +50,7 @@ pub struct Args {
     #[arg(long)]
     flatten: bool,
     /// Only these topics (comma-separated names, e.g. `vehicle_local_position,sensor_combined`).
-    /// With one log, a name it lacks is an error before anything is written; with many,
+    /// With one log, a name it lacks is an error and nothing is left written; with many,
     /// each log gets the topics it has, a log with none of them is skipped, and a name
     /// in none of the logs is an error at the end.
     #[arg(short = 'm', long = "messages", value_name = "TOPICS")]
@@ -108,7 +108,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         ..Options::default()
     };
-    // With one log, names it lacks are an error before anything is written; with
+    // With one log, names it lacks are an error and nothing is left written; with
     // many, each log exports the names it has.
     let strict = jobs.len() == 1;
 
