@@ -57,30 +57,9 @@ pub struct Args {
     exclude: Option<String>,
 }
 
-/// A time as microseconds: `S`, `M:S` or `H:M:S`, seconds with a fraction.
+/// A time since the log's start ([`input::seconds`]) as microseconds.
 fn seconds(text: &str) -> Result<u64, String> {
-    let bad = || format!("`{text}` is not a time (90, 1:30 or 1:30.5)");
-    let mut total = 0f64;
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() > 3 {
-        return Err(bad());
-    }
-    for (i, part) in parts.iter().enumerate() {
-        let last = i + 1 == parts.len();
-        let value: f64 = if last {
-            part.parse().map_err(|_| bad())?
-        } else {
-            part.parse::<u64>().map_err(|_| bad())? as f64
-        };
-        if !value.is_finite() || value < 0.0 || (!last && i > 0 && value >= 60.0) {
-            return Err(bad());
-        }
-        if last && parts.len() > 1 && value >= 60.0 {
-            return Err(bad());
-        }
-        total = total * 60.0 + value;
-    }
-    Ok((total * 1e6).round() as u64)
+    input::seconds(text).map(|s| (s * 1e6).round() as u64)
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {

@@ -37,6 +37,50 @@ pub fn error_text(e: &ReadError) -> String {
     }
 }
 
+/// Seconds since a log's start (`--start`, `--end` of `plot` and `cut`) from `90`, `90.5`, `1:30`, `1:30.5` or `1:02:03.5` (minutes and seconds
+/// after a `:` below 60).
+pub fn seconds(s: &str) -> Result<f64, String> {
+    let bad = || {
+        format!(
+            "`{s}` is not a time: expected the time since the log's start as seconds \
+             (`90`, `90.5`), M:SS (`1:30`, `1:30.5`) or H:MM:SS (`1:02:03`)"
+        )
+    };
+    let digits = |p: &str| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit());
+    let parts: Vec<&str> = s.split(':').collect();
+    let Some((last, units)) = parts.split_last() else {
+        return Err(bad());
+    };
+    if units.len() > 2 {
+        return Err(bad());
+    }
+    let seconds_ok = match last.split_once('.') {
+        Some((whole, frac)) => digits(whole) && digits(frac),
+        None => digits(last),
+    };
+    if !seconds_ok {
+        return Err(bad());
+    }
+    let seconds: f64 = last.parse().map_err(|_| bad())?;
+    if !units.is_empty() && seconds >= 60.0 {
+        return Err(bad());
+    }
+    let mut total = 0.0f64;
+    for (i, p) in units.iter().enumerate() {
+        let v: f64 = p.parse().ok().filter(|_| digits(p)).ok_or_else(bad)?;
+        if i > 0 && v >= 60.0 {
+            return Err(bad());
+        }
+        total = total * 60.0 + v;
+    }
+    let t = total * 60.0 + seconds;
+    if t.is_finite() {
+        Ok(t)
+    } else {
+        Err(bad())
+    }
+}
+
 /// The topic names of a `-m a,b,c` option, each checked to be in `log` (named `name`):
 /// an unknown one is a failure that suggests the closest topic.
 pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&'s str>, Failure> {
@@ -81,6 +125,22 @@ pub fn threads(jobs: Option<std::num::NonZeroUsize>) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn times_are_seconds_or_minutes_and_seconds() {
+        assert_eq!(seconds("90"), Ok(90.0));
+        assert_eq!(seconds("90.25"), Ok(90.25));
+        assert_eq!(seconds("1:30"), Ok(90.0));
+        assert_eq!(seconds("1:30.5"), Ok(90.5));
+        assert_eq!(seconds("01:02:03"), Ok(3723.0));
+        assert_eq!(seconds("90:00"), Ok(5400.0));
+        for bad in [
+            "", "1:60", "1:75", "1:60:00", "a", "1:", ":30", "-5", "1e3", "1.", ".5", "1:2:3:4",
+            "inf",
+        ] {
+            assert!(seconds(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn log_extensions_are_ulg_and_ulog_in_any_case() {

@@ -71,11 +71,11 @@ pub struct Args {
     title: Option<String>,
     /// Start the time axis at this time since the log's start: seconds (`90`,
     /// `90.5`), `M:SS` or `H:MM:SS` (`1:30`, `1:30.5`) (default: the first point).
-    #[arg(long, value_name = "TIME", value_parser = parse_time)]
+    #[arg(long, value_name = "TIME", value_parser = input::seconds)]
     start: Option<f64>,
     /// End the time axis at this time since the log's start, written as for `--start`
     /// (default: the last point).
-    #[arg(long, value_name = "TIME", value_parser = parse_time)]
+    #[arg(long, value_name = "TIME", value_parser = input::seconds)]
     end: Option<f64>,
     /// Not plot's: `csv`'s boot-time range. Refused with a pointer to `--start`.
     #[arg(long = "time-start", hide = true, value_name = "S", value_parser = not_plots)]
@@ -92,49 +92,6 @@ pub struct Args {
     /// One panel per line, one above the other, sharing the time axis.
     #[arg(long)]
     separate: bool,
-}
-
-/// Seconds from `90`, `90.5`, `1:30`, `1:30.5` or `1:02:03.5` (minutes and seconds
-/// after a `:` below 60).
-fn parse_time(s: &str) -> Result<f64, String> {
-    let bad = || {
-        "expected the time since the log's start as seconds (`90`, `90.5`), M:SS \
-         (`1:30`, `1:30.5`) or H:MM:SS (`1:02:03`)"
-            .to_owned()
-    };
-    let digits = |p: &str| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit());
-    let parts: Vec<&str> = s.split(':').collect();
-    let Some((last, units)) = parts.split_last() else {
-        return Err(bad());
-    };
-    if units.len() > 2 {
-        return Err(bad());
-    }
-    let seconds_ok = match last.split_once('.') {
-        Some((whole, frac)) => digits(whole) && digits(frac),
-        None => digits(last),
-    };
-    if !seconds_ok {
-        return Err(bad());
-    }
-    let seconds: f64 = last.parse().map_err(|_| bad())?;
-    if !units.is_empty() && seconds >= 60.0 {
-        return Err(bad());
-    }
-    let mut total = 0.0f64;
-    for (i, p) in units.iter().enumerate() {
-        let v: f64 = p.parse().ok().filter(|_| digits(p)).ok_or_else(bad)?;
-        if i > 0 && v >= 60.0 {
-            return Err(bad());
-        }
-        total = total * 60.0 + v;
-    }
-    let t = total * 60.0 + seconds;
-    if t.is_finite() {
-        Ok(t)
-    } else {
-        Err(bad())
-    }
 }
 
 /// `--time-start`/`--time-end` given to `plot`: always an error that names plot's flags.
@@ -341,22 +298,6 @@ mod tests {
             default_output(Path::new("logs/flight.ulog")),
             Path::new("logs/flight_plot.svg")
         );
-    }
-
-    #[test]
-    fn times_are_seconds_or_minutes_and_seconds() {
-        assert_eq!(parse_time("90"), Ok(90.0));
-        assert_eq!(parse_time("90.25"), Ok(90.25));
-        assert_eq!(parse_time("1:30"), Ok(90.0));
-        assert_eq!(parse_time("1:30.5"), Ok(90.5));
-        assert_eq!(parse_time("01:02:03"), Ok(3723.0));
-        assert_eq!(parse_time("90:00"), Ok(5400.0));
-        for bad in [
-            "", "1:60", "1:75", "1:60:00", "a", "1:", ":30", "-5", "1e3", "1.", ".5", "1:2:3:4",
-            "inf",
-        ] {
-            assert!(parse_time(bad).is_err(), "{bad}");
-        }
     }
 
     #[test]
