@@ -255,14 +255,12 @@ impl Positions {
             .plans
             .entry(sub.index())
             .or_insert_with(|| Plan::of(sub));
-        let mut pairs = plan.pairs.clone();
-        if let Some(command) = &plan.command {
-            let id = read_uint(payload, command.id);
-            if id.is_some_and(|id| POSITION_COMMANDS.contains(&id)) {
-                pairs.push((command.lat, command.lon));
-            }
-        }
-        for (lat, lon) in pairs {
+        // A command's parameters are a position only for some commands.
+        let command = plan
+            .command
+            .filter(|c| read_uint(payload, c.id).is_some_and(|id| POSITION_COMMANDS.contains(&id)));
+        let pairs = plan.pairs.iter().copied();
+        for (lat, lon) in pairs.chain(command.map(|c| (c.lat, c.lon))) {
             let (Some(a), Some(b)) = (read(payload, lat), read(payload, lon)) else {
                 continue;
             };

@@ -197,7 +197,9 @@ impl<'f> Edit<'f> {
         let mut messages = Messages::new(data);
         let mut in_definitions = true;
         let mut last = log.start_timestamp();
-        let mut clocks: Vec<Option<Unwrapper>> = Vec::new();
+        // Per subscription, met at its first data message: its timestamps, and whether
+        // its topic is kept.
+        let mut topics: Vec<Option<(Unwrapper, bool)>> = Vec::new();
         let mut buffer = Vec::new();
         let mut started = false;
         let mut kept_ids: HashSet<u16> = HashSet::new();
@@ -261,11 +263,12 @@ impl<'f> Edit<'f> {
                         continue;
                     };
                     let i = sub.index();
-                    if clocks.len() <= i {
-                        clocks.resize_with(i + 1, || None);
+                    if topics.len() <= i {
+                        topics.resize_with(i + 1, || None);
                     }
-                    let clock =
-                        clocks[i].get_or_insert_with(|| Unwrapper::new(sub.timestamp_field()));
+                    let (clock, chosen) = topics[i].get_or_insert_with(|| {
+                        (Unwrapper::new(sub.timestamp_field()), kept(sub.name()))
+                    });
                     let time = match clock.push(payload) {
                         Some(t) => {
                             last = last.max(t);
@@ -273,7 +276,7 @@ impl<'f> Edit<'f> {
                         }
                         None => last,
                     };
-                    if !kept(sub.name()) || !inside(time) {
+                    if !*chosen || !inside(time) {
                         summary.rows_left_out += 1;
                         continue;
                     }
