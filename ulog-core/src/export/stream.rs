@@ -86,11 +86,8 @@ enum Slot {
 }
 
 struct Open {
-    /// The topic's name, instance, msg_id and index among the subscriptions.
-    name: String,
-    multi_id: u8,
-    msg_id: u16,
-    index: usize,
+    /// The topic instance (the table of a wide one is built from it when written).
+    sub: Subscription,
     /// The table, but for wide tables (built again when they are written: it holds
     /// some hundred bytes per column).
     table: Option<Arc<TopicTable>>,
@@ -112,7 +109,6 @@ struct Open {
     group_bytes: usize,
     /// Row groups cut so far.
     groups: u64,
-    rows: usize,
 }
 
 /// Writes the log of `source` to `dir` (see [`super::write_parquet`]).
@@ -247,7 +243,7 @@ pub(super) fn export(
             let Some(row) = r.payload.get(..needed) else {
                 fail(
                     ExportError::new(ExportErrorKind::ShortPayload {
-                        topic: slot.name.clone(),
+                        topic: slot.sub.name().to_owned(),
                         needed,
                         found: r.payload.len(),
                     })
@@ -256,7 +252,6 @@ pub(super) fn export(
                 return Hand::Stop;
             };
             slot.buffer.extend_from_slice(row);
-            slot.rows += 1;
             if needed == 0 {
                 slot.buffer.push(0);
             }
@@ -352,7 +347,7 @@ pub(super) fn export(
         };
         std::fs::write(&metadata_partial, json(&log, &facts))
             .map_err(|e| ExportError::io(e, &metadata))?;
-        let files = rename(&opened, dir)?;
+        let files = rename(&opened, &rows, dir)?;
         if let Err(e) = std::fs::rename(&metadata_partial, &metadata) {
             for done in &files {
                 let _ = std::fs::remove_file(&done.path);
@@ -421,10 +416,7 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
         sub.index()
     ));
     Slot::Open(Box::new(Open {
-        name: sub.name().to_owned(),
-        multi_id: sub.multi_id(),
-        msg_id: sub.msg_id(),
-        index: sub.index(),
+        sub: sub.clone(),
         group_bytes: group_rows * table.needed().max(1),
         needed: table.needed(),
         table: (!wide).then(|| Arc::new(table)),
@@ -439,7 +431,6 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
         }),
         buffer: Vec::new(),
         spill: Spill {
-            sub: sub.clone(),
             path: dir.join(format!(
                 "{}.{}.rows.partial",
                 name_of(sub.name(), sub.multi_id()),
@@ -450,7 +441,6 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
         },
         wide,
         groups: 0,
-        rows: 0,
     }))
 }
 
@@ -566,19 +556,23 @@ fn missing_topics(log: &ULog<'_>, options: &Options) -> Result<Vec<LookupError>>
 }
 
 /// Gives the files their names (sorted by topic name and instance; a second
-/// subscription of one name and instance gets its msg_id in its name).
-fn rename(opened: &[&mut Open], dir: &Path) -> Result<Vec<Written>> {
+/// subscription of one name and instance gets its msg_id in its name); `rows` is each
+/// subscription's rows.
+fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path) -> Result<Vec<Written>> {
     let mut order: Vec<&Open> = opened.iter().map(|o| &**o).collect();
-    order.sort_by(|a, b| (&a.name, a.multi_id, a.index).cmp(&(&b.name, b.multi_id, b.index)));
+    fn key(o: &Open) -> (&str, u8, usize) {
+        (o.sub.name(), o.sub.multi_id(), o.sub.index())
+    }
+    order.sort_by(|a, b| key(a).cmp(&key(b)));
     let mut names = std::collections::HashSet::new();
     let mut files: Vec<Written> = Vec::with_capacity(order.len());
     for slot in order {
-        let mut name = name_of(&slot.name, slot.multi_id);
+        let mut name = name_of(slot.sub.name(), slot.sub.multi_id());
         if !names.insert(name.clone()) {
             name = format!(
                 "{}_msg{}.parquet",
                 name.trim_end_matches(".parquet"),
-                slot.msg_id
+                slot.sub.msg_id()
             );
             names.insert(name.clone());
         }
@@ -591,10 +585,10 @@ fn rename(opened: &[&mut Open], dir: &Path) -> Result<Vec<Written>> {
             return Err(ExportError::io(e, &path));
         }
         files.push(Written {
-            topic: slot.name.clone(),
-            multi_id: slot.multi_id,
+            topic: slot.sub.name().to_owned(),
+            multi_id: slot.sub.multi_id(),
             path,
-            rows: slot.rows,
+            rows: rows[slot.sub.index()],
         });
     }
     Ok(files)
@@ -608,7 +602,6 @@ fn rename(opened: &[&mut Open], dir: &Path) -> Result<Vec<Written>> {
 /// widest format, 65,535 one-byte fields), so wide tables are written one at a time,
 /// after the pass, and not all held open while it goes on.
 struct Spill {
-    sub: Subscription,
     path: PathBuf,
     file: Option<BufWriter<LazyFile>>,
     /// Bytes in the file.
@@ -656,7 +649,7 @@ fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
     let path = slot.spill.path.clone();
     let _alone = WIDE_TABLE.lock().unwrap_or_else(|p| p.into_inner());
     let result = (|| {
-        let table = Arc::new(TopicTable::new(&slot.spill.sub, options)?);
+        let table = Arc::new(TopicTable::new(&slot.sub, options)?);
         let mut file = File::open(&path).map_err(|e| ExportError::io(e, &path))?;
         let mut left = slot.spill.bytes;
         while left > 0 {
