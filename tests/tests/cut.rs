@@ -301,3 +301,98 @@ fn pyulog_reads_every_cut_as_our_reader_does() {
         );
     }
 }
+
+#[test]
+fn topics_are_chosen_by_their_formats_and_a_window_past_the_end_keeps_the_definitions() {
+    use ulog_core::testing::LogBuilder;
+    let mut b = LogBuilder::new(1, 100);
+    b.format("inner:uint8_t x;");
+    b.format("outer:uint64_t timestamp;inner a;");
+    b.format("other:uint64_t timestamp;");
+    b.format("spare:uint64_t timestamp;");
+    b.param("int32_t P_ONE", &1i32.to_le_bytes());
+    b.subscribe(0, 0, "outer");
+    b.subscribe(0, 1, "other");
+    for t in [1_000u64, 2_000, 3_000] {
+        b.data(0, &[&t.to_le_bytes()[..], &[7]].concat());
+        b.data(1, &t.to_le_bytes());
+    }
+    b.param("int32_t P_ONE", &2i32.to_le_bytes());
+    let bytes = b.bytes().to_vec();
+    let formats = |out: &[u8]| {
+        let mut f: Vec<String> = ULog::parse(out)
+            .unwrap()
+            .formats()
+            .iter()
+            .map(|f| f.name.clone())
+            .collect();
+        f.sort();
+        f
+    };
+
+    // Leaving out `outer` drops its own format; `inner` is a format name like any
+    // topic's, so it stays.
+    let mut out = Vec::new();
+    let s = Edit::new()
+        .exclude(["outer"])
+        .write(&bytes, &mut out)
+        .unwrap();
+    assert_eq!(formats(&out), ["inner", "other", "spare"]);
+    assert_eq!((s.rows, s.rows_left_out), (3, 3));
+    assert!(s.unlogged.is_empty());
+
+    // A topic with a format and no subscription: no rows, and said so.
+    let mut out = Vec::new();
+    let s = Edit::new().only(["spare"]).write(&bytes, &mut out).unwrap();
+    assert_eq!(formats(&out), ["spare"]);
+    assert_eq!(
+        (s.rows, s.unlogged.as_slice()),
+        (0, &["spare".to_owned()][..])
+    );
+
+    // A name no format has: an error naming the closest, before anything is written.
+    let mut out = Vec::new();
+    let err = Edit::new()
+        .only(["outr"])
+        .write(&bytes, &mut out)
+        .unwrap_err();
+    match err.kind() {
+        ulog_core::write::WriteErrorKind::TopicNotFound(t) => {
+            assert_eq!(
+                t.closest.first().map(String::as_str),
+                Some("outer"),
+                "{err}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(out.is_empty());
+
+    // A window after the last row: the definitions, with the parameter changed
+    // before it as its initial value, and the subscriptions; no data.
+    let mut out = Vec::new();
+    let s = Edit::new()
+        .window(Some(10_000), None)
+        .write(&bytes, &mut out)
+        .unwrap();
+    assert_eq!(s.rows, 0);
+    let cut = ULog::parse(&out).unwrap();
+    assert!(cut.findings().is_empty(), "{:?}", cut.findings());
+    assert_eq!(cut.subscriptions().len(), 2);
+    assert_eq!(cut.start_timestamp(), 100);
+    let p = &cut.initial_params()[0];
+    assert_eq!(
+        (p.name().as_ref(), p.value().to_string()),
+        ("P_ONE", "2".into())
+    );
+    assert!(cut.param_changes().is_empty());
+
+    // The header's timestamp replaced.
+    let mut out = Vec::new();
+    Edit::new()
+        .header_timestamp(0)
+        .write(&bytes, &mut out)
+        .unwrap();
+    assert_eq!(ULog::parse(&out).unwrap().start_timestamp(), 0);
+    assert_eq!(out[16..], bytes[16..]);
+}

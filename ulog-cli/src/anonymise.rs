@@ -18,8 +18,9 @@ use crate::input;
 /// stretches are not copied.
 ///
 /// `--zero-utc` also leaves out the wall-clock keys (`time_ref_utc`,
-/// `boot_time_utc_us`) and zeroes the GPS time fields (`time_utc_usec`); `--keep`
-/// keeps keys of those lists.
+/// `boot_time_utc_us`) and zeroes the GPS time fields (`time_utc_usec`);
+/// `--zero-start` writes 0 as the header's timestamp; `--keep` keeps keys of those
+/// lists.
 #[derive(Debug, clap::Args)]
 #[command(
     about = "A log to share: the identity left out, positions moved",
@@ -40,6 +41,10 @@ pub struct Args {
     /// Also leave out the wall-clock keys and zero the GPS time fields.
     #[arg(long)]
     zero_utc: bool,
+    /// Write 0 as the log's start time (the header's timestamp, time since boot);
+    /// times since the start then count from boot.
+    #[arg(long)]
+    zero_start: bool,
 }
 
 fn lat_lon(text: &str) -> Result<(f64, f64), String> {
@@ -57,14 +62,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
-    let mut anonymise = Anonymise::new().zero_utc(args.zero_utc);
+    let mut anonymise = Anonymise::new()
+        .zero_utc(args.zero_utc)
+        .zero_start(args.zero_start);
     if let Some((lat, lon)) = args.to {
         anonymise = anonymise.to(lat, lon);
     }
     if let Some(keys) = &args.keep {
         anonymise = anonymise.keep(keys.split(',').filter(|k| !k.is_empty()));
     }
-    crate::cut::write_edit(&name, &args.file, &args.output, &log, anonymise.edit(&log))
+    let edit = anonymise.edit(&log);
+    crate::cut::write_edit(&name, &args.file, &args.output, (&log).into(), edit)
 }
 
 #[cfg(test)]

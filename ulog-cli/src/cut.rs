@@ -1,10 +1,11 @@
 //! `ulog cut`: a time window and a choice of topics of a log, as a valid log.
 
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
+use ulog_core::read::{Header, Messages};
 use ulog_core::write::WriteErrorKind;
-use ulog_core::{Edit, ULog};
+use ulog_core::{Edit, Source};
 
 use crate::failure::{io_text, Failure, Status};
 use crate::input;
@@ -64,31 +65,69 @@ fn seconds(text: &str) -> Result<u64, String> {
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
-    let start = log.start_timestamp();
+    // The log is not parsed: the edit frames it once, as it reads it (BENCHMARKS.md,
+    // "cut"). Times count from the header's timestamp.
+    let start = header(&name, &args.file)?.timestamp;
     let from = args
         .start_us
         .or(args.start.map(|s| start.saturating_add(s)));
     let to = args.end_us.or(args.end.map(|s| start.saturating_add(s)));
     let mut edit = Edit::new().window(from, to);
-    if let Some(list) = &args.messages {
-        edit = edit.only(input::topic_list(&name, &log, list)?);
+    let list = |text: &str| {
+        text.split(',')
+            .filter(|s| !s.is_empty())
+            .map(str::to_owned)
+            .collect::<Vec<_>>()
+    };
+    if let Some(text) = &args.messages {
+        edit = edit.only(list(text));
     }
-    if let Some(list) = &args.exclude {
-        edit = edit.exclude(input::topic_list(&name, &log, list)?);
+    if let Some(text) = &args.exclude {
+        edit = edit.exclude(list(text));
     }
-    write_edit(&name, &args.file, &args.output, &log, edit)
+    write_edit(
+        &name,
+        &args.file,
+        &args.output,
+        Source::file(&args.file),
+        edit,
+    )
 }
+
+/// The header of the log at `path` (named `name`), from its first bytes.
+fn header(name: &str, path: &Path) -> Result<Header, Failure> {
+    let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(name, io_text(&e)))?;
+    if meta.is_dir() {
+        return Err(Failure::unreadable(name, "is a directory"));
+    }
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(HEADER_SIZE).read_to_end(&mut head))
+        .map_err(|e| Failure::unreadable(name, io_text(&e)))?;
+    let mut framing = Messages::new(&head);
+    let first = framing.next();
+    match (framing.header(), first) {
+        (Some(header), _) => Ok(header),
+        (None, Some(Err(e))) => Err(Failure::new(Status::Refused, name, input::error_text(&e))),
+        (None, _) => Err(Failure::new(
+            Status::Refused,
+            name,
+            "not a ULog file (no header)",
+        )),
+    }
+}
+
+/// The size of a log's header.
+const HEADER_SIZE: u64 = 16;
 
 /// Writes `edit` of `log` (the file `input`, named `name`) to `output`: under a
 /// temporary name, renamed when done; never over the input. Says what was written,
-/// and on stderr what damage was not copied.
+/// and on stderr what damage was not copied and which topics named have no data.
 pub fn write_edit(
     name: &str,
     input: &Path,
     output: &Path,
-    log: &ULog<'_>,
+    log: Source<'_>,
     edit: Edit<'_>,
 ) -> Result<(), Failure> {
     if same_file(input, output) {
@@ -107,6 +146,7 @@ pub fn write_edit(
             return Err(match e.kind() {
                 WriteErrorKind::Io(_) => Failure::Message(Status::Io, format!("{shown}: {e}")),
                 WriteErrorKind::TopicNotFound(_) => Failure::unknown_name(name, &e),
+                WriteErrorKind::Unreadable => Failure::new(Status::Refused, name, e.to_string()),
                 _ => Failure::about(name, &e),
             });
         }
@@ -115,13 +155,21 @@ pub fn write_edit(
         let _ = std::fs::remove_file(&tmp);
         Failure::unreadable(&shown, io_text(&e))
     })?;
-    if !summary.skipped.is_empty() {
-        let bytes: u64 = summary.skipped.iter().map(|f| f.len).sum();
+    // Findings that are not damage (appended data met) cost nothing.
+    let damage: Vec<_> = summary.skipped.iter().filter(|f| f.is_damage()).collect();
+    if !damage.is_empty() {
+        let bytes: u64 = damage.iter().map(|f| f.len).sum();
         let _ = writeln!(
             std::io::stderr(),
             "ulog: {name}: {} damaged stretch{} ({bytes} bytes) not copied (`ulog check` lists them)",
-            summary.skipped.len(),
-            if summary.skipped.len() == 1 { "" } else { "es" },
+            damage.len(),
+            if damage.len() == 1 { "" } else { "es" },
+        );
+    }
+    for topic in &summary.unlogged {
+        let _ = writeln!(
+            std::io::stderr(),
+            "ulog: {name}: topic `{topic}` has a format but no data in the log"
         );
     }
     println!(

@@ -157,7 +157,7 @@ fn anonymise_leaves_out_the_identity_and_moves_positions_as_asked() {
     let dir = common::scratch("anonymise_cli");
     std::fs::create_dir_all(&dir).unwrap();
     let uuid = "0004004B3038511834303533";
-    let mut b = LogBuilder::new(1, 0);
+    let mut b = LogBuilder::new(1, 900);
     b.info_str("sys_uuid", uuid);
     b.info_str("sys_name", "PX4");
     b.format("home_position:uint64_t timestamp;double lat;double lon;float alt;");
@@ -195,6 +195,15 @@ fn anonymise_leaves_out_the_identity_and_moves_positions_as_asked() {
     common::ulog_ok(["anonymise", i, "-o", o, "--keep", "sys_uuid"]);
     let out = std::fs::read(&output).unwrap();
     assert!(out.windows(uuid.len()).any(|w| w == uuid.as_bytes()));
+
+    assert_eq!(ULog::parse(&out).unwrap().start_timestamp(), 900);
+
+    common::ulog_ok(["anonymise", i, "-o", o, "--zero-start"]);
+    let log_bytes = std::fs::read(&output).unwrap();
+    let log = ULog::parse(&log_bytes).unwrap();
+    assert_eq!(log.start_timestamp(), 0);
+    let home = log.topic("home_position", 0).unwrap();
+    assert_eq!(home.timestamps(), [1_000, 2_000], "data times stay");
 
     let bad = common::ulog(["anonymise", i, "-o", o, "--to", "91,0"]);
     assert_eq!(bad.status.code(), Some(2));

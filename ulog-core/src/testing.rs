@@ -321,10 +321,16 @@ where
 {
     use crate::pass::driver::{Driver, Hand};
     let mut driver = Driver::new();
-    crate::pass::source::read_ahead_chunks(src, chunk.max(1), room, &mut driver, &mut |r| {
-        f(r);
-        Hand::Next
-    })?;
+    crate::pass::source::read_ahead_chunks(
+        src,
+        chunk.max(1),
+        room,
+        &mut driver,
+        &mut |r: crate::DataRecord<'_>| {
+            f(r);
+            Hand::Next
+        },
+    )?;
     Ok(driver.summary())
 }
 

@@ -197,7 +197,7 @@ pub(crate) fn load_one(
     len: u64,
 ) -> Result<LoadedColumns, ReadError> {
     let mut tables = Tables::new(len);
-    let summary = drive(source, read_ahead, &mut |r| {
+    let summary = drive(source, read_ahead, &mut |r: DataRecord<'_>| {
         tables.push(&r);
         Hand::Next
     })?;
@@ -291,7 +291,7 @@ pub(crate) fn load_shared(
     // timing each thread of a load of the two large benchmark logs.)
     let mut work: Vec<u64> = Vec::new();
     let mut per_row: Vec<u64> = Vec::new();
-    drive(again(source), false, &mut |r| {
+    drive(again(source), false, &mut |r: DataRecord<'_>| {
         if r.offset >= sample {
             return Hand::Stop;
         }
@@ -316,7 +316,7 @@ pub(crate) fn load_shared(
                 s.spawn(move || {
                     let mut tables = Tables::new(len);
                     // Another thread's subscriptions are framed, not handed out.
-                    let summary = drive(mine, false, &mut |r| {
+                    let summary = drive(mine, false, &mut |r: DataRecord<'_>| {
                         if shares.owner(r.topic.index()) == k {
                             tables.push(&r);
                             Hand::Next

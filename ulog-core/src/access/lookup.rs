@@ -48,6 +48,18 @@ impl TopicNotFound {
     }
 }
 
+impl TopicNotFound {
+    /// A name that none of a log's `names` is: the closest of them.
+    pub(crate) fn among<'n>(name: &str, names: impl Iterator<Item = &'n str>) -> TopicNotFound {
+        TopicNotFound {
+            name: name.to_owned(),
+            multi_id: None,
+            instances: Vec::new(),
+            closest: crate::suggest::closest_n(name, names, 3),
+        }
+    }
+}
+
 impl fmt::Display for TopicNotFound {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.instances.is_empty() {

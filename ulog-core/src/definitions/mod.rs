@@ -115,6 +115,24 @@ impl Definitions {
         Arc::try_unwrap(formats).unwrap_or_else(|shared| (*shared).clone())
     }
 
+    /// Every format's name.
+    pub fn format_names(&self) -> impl Iterator<Item = &str> {
+        self.formats.keys().map(String::as_str)
+    }
+
+    /// The names of the formats a topic `name` is laid out with: its own and the
+    /// nested ones (its own only when it cannot be laid out); none when no format has
+    /// that name.
+    pub fn formats_of(&self, name: &str) -> Vec<String> {
+        if !self.formats.contains_key(name) {
+            return Vec::new();
+        }
+        match Resolver::new(Limits::default()).resolve(name, &*self.formats) {
+            Ok(layout) => layout.formats().iter().map(|f| f.name.clone()).collect(),
+            Err(_) => vec![name.to_owned()],
+        }
+    }
+
     /// A format (`F`) message's payload; what is wrong with it, if anything.
     pub fn format(&mut self, payload: &[u8]) -> Option<FindingKind> {
         let format = match Format::parse_bytes(payload) {

@@ -214,7 +214,7 @@ pub(super) fn export(
                 fail(e);
             }
         };
-        let result = drive_keeping(source, true, kept, &mut |r| {
+        let result = drive_keeping(source, true, kept, &mut |r: crate::DataRecord<'_>| {
             let i = r.topic.index();
             if slots.len() <= i {
                 slots.resize_with(i + 1, || Slot::Unseen);

@@ -15,6 +15,9 @@ use crate::log::ulog::ULog;
 pub struct DataRecord<'r> {
     /// Byte offset of the message's 3-byte header.
     pub offset: u64,
+    /// The msg_id it was logged with (that of its subscription, or of a later
+    /// subscription of the same topic instance).
+    pub msg_id: u16,
     /// Its subscription.
     pub topic: &'r Subscription,
     /// The payload after the msg_id.
@@ -56,6 +59,27 @@ impl ScanSummary {
             findings: log.findings().to_vec(),
             stopped: false,
         }
+    }
+}
+
+/// What a pass hands messages to: every data record, and (for those that ask) each
+/// other message as framing meets it. A closure taking data records is one.
+pub(crate) trait Visit {
+    /// A data message of a known subscription.
+    fn data(&mut self, record: DataRecord<'_>) -> Hand;
+
+    /// A message other than data: its record, its payload, and framing as it stands
+    /// after it. `false` stops the pass.
+    #[inline(always)]
+    fn other(&mut self, _record: &Record, _payload: &[u8], _framer: &Framer) -> bool {
+        true
+    }
+}
+
+impl<F: FnMut(DataRecord<'_>) -> Hand> Visit for F {
+    #[inline(always)]
+    fn data(&mut self, record: DataRecord<'_>) -> Hand {
+        self(record)
     }
 }
 
@@ -161,7 +185,7 @@ fn hand_out<F>(
     f: &mut F,
 ) -> bool
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     if skip.get(sub as usize) == Some(&true) {
         return true;
@@ -169,10 +193,11 @@ where
     // Framing checked that a data message holds its msg_id.
     let record = DataRecord {
         offset,
+        msg_id: u16::from_le_bytes([payload[0], payload[1]]),
         topic,
         payload: &payload[2..],
     };
-    match f(record) {
+    match f.data(record) {
         Hand::Next => true,
         Hand::SkipTopic => {
             skip_topic(skip, topic.index());
@@ -207,7 +232,7 @@ impl Driver {
     #[inline]
     pub fn run<F>(&mut self, win: &[u8], base: u64, eof: bool, f: &mut F) -> Result<Ran, ReadError>
     where
-        F: FnMut(DataRecord<'_>) -> Hand,
+        F: Visit + ?Sized,
     {
         loop {
             let mut n = 0u64;
@@ -235,8 +260,12 @@ impl Driver {
                             return Ok(self.stop());
                         }
                     } else if r.msg_type != b'D' {
+                        let payload = r.payload(win, base);
                         if let Some(keep) = &mut self.keep {
-                            keep.keep(&r, r.payload(win, base));
+                            keep.keep(&r, payload);
+                        }
+                        if !f.other(&r, payload, &self.framer) {
+                            return Ok(self.stop());
                         }
                     }
                 }

@@ -78,8 +78,10 @@ where
     }
     let mut stopped = false;
     while let Some(Reverse(c)) = heap.pop() {
+        let at = c.offset as usize + 3;
         let record = DataRecord {
             offset: c.offset,
+            msg_id: u16::from_le_bytes([data[at], data[at + 1]]),
             topic: &topics[c.sub],
             payload: data_payload_at(data, c.offset),
         };

@@ -160,7 +160,9 @@ where
     // `f` called from each order's own closure (one closure shared by both kept it
     // out of line).
     match options.order {
-        ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r| {
+        ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r: DataRecord<
+            '_,
+        >| {
             Hand::go_on(f(r).go_on())
         }),
         ScanOrder::Timestamp => time_ordered(source.into(), &mut |r, _| Hand::go_on(f(r).go_on())),

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::error::ReadError;
 use crate::log::file::LogFile;
 use crate::log::ulog::ULog;
-use crate::pass::driver::{DataRecord, Driver, Hand, Ran, ScanSummary};
+use crate::pass::driver::{Driver, Ran, ScanSummary, Visit};
 
 /// Where a pass ([`scan`](crate::scan), [`scan_topics`](crate::scan_topics),
 /// [`load_columns`](crate::load_columns)) reads a log from.
@@ -174,7 +174,7 @@ pub(crate) fn drive<F>(
     f: &mut F,
 ) -> Result<ScanSummary, ReadError>
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     let mut driver = Driver::new();
     drive_with(source, read_ahead, &mut driver, f)?;
@@ -191,7 +191,7 @@ pub(crate) fn drive_keeping<F>(
     f: &mut F,
 ) -> Result<(ScanSummary, crate::pass::driver::Kept), ReadError>
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     let mut driver = Driver::new();
     driver.keep = Some(kept);
@@ -207,7 +207,7 @@ fn drive_with<F>(
     f: &mut F,
 ) -> Result<(), ReadError>
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     let path = source.inner.path().map(Path::to_owned);
     let in_file = |e: ReadError| match &path {
@@ -248,7 +248,7 @@ fn read_chunks<F>(
     f: &mut F,
 ) -> Result<(), ReadError>
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     // The file from `base` is `buf[start..end]`.
     let mut buf = vec![0u8; READ_CHUNK * 2];
@@ -296,7 +296,7 @@ pub(crate) fn read_ahead_chunks<R, F>(
 ) -> Result<(), ReadError>
 where
     R: Read + Send,
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     use std::sync::mpsc::sync_channel;
     std::thread::scope(|s| {
@@ -332,7 +332,7 @@ fn frame_ahead<F>(
     free: &std::sync::mpsc::SyncSender<Vec<u8>>,
 ) -> Result<(), ReadError>
 where
-    F: FnMut(DataRecord<'_>) -> Hand,
+    F: Visit + ?Sized,
 {
     let mut cur = Vec::new();
     // The file from `base` is `cur[start..end]`, the bytes read so far.
@@ -401,6 +401,7 @@ fn fill_chunks<R: Read>(
 mod tests {
     use super::*;
     use crate::error::ReadErrorKind;
+    use crate::pass::driver::{DataRecord, Hand};
     use crate::pass::scan::{scan, ScanOptions};
     use crate::testing::sample_log;
 
@@ -410,7 +411,7 @@ mod tests {
     where
         F: FnMut(DataRecord<'_>) -> bool,
     {
-        drive(Source::from(bytes), false, &mut |r| {
+        drive(Source::from(bytes), false, &mut |r: DataRecord<'_>| {
             if f(r) {
                 Hand::Next
             } else {
@@ -424,7 +425,7 @@ mod tests {
     where
         F: FnMut(DataRecord<'_>) -> bool,
     {
-        drive(Source::reader(src), false, &mut |r| {
+        drive(Source::reader(src), false, &mut |r: DataRecord<'_>| {
             if f(r) {
                 Hand::Next
             } else {
@@ -444,7 +445,7 @@ mod tests {
         F: FnMut(DataRecord<'_>) -> bool,
     {
         let mut driver = Driver::new();
-        read_ahead_chunks(src, chunk, room, &mut driver, &mut |r| {
+        read_ahead_chunks(src, chunk, room, &mut driver, &mut |r: DataRecord<'_>| {
             if f(r) {
                 Hand::Next
             } else {
@@ -534,7 +535,7 @@ mod tests {
             .unwrap();
             for (chunk, room) in [(1, 0), (7, 3), (100, 64), (4096, 0), (4096, 1 << 17)] {
                 let mut got = Vec::new();
-                let ahead = read_ahead(bytes, chunk, room, &mut |r| {
+                let ahead = read_ahead(bytes, chunk, room, &mut |r: DataRecord<'_>| {
                     got.push((r.offset, r.topic.index(), r.payload.to_vec()));
                     true
                 })
@@ -590,7 +591,7 @@ mod tests {
             .any(|f| f.kind == crate::finding::FindingKind::PartialBeforeAppended));
         for (chunk, room) in [(64, 16), (100, 0), (299, 1024), (4096, 1024)] {
             let mut got = Vec::new();
-            let ahead = read_ahead(Chunks(&bytes, 37), chunk, room, &mut |r| {
+            let ahead = read_ahead(Chunks(&bytes, 37), chunk, room, &mut |r: DataRecord<'_>| {
                 got.push(r.offset);
                 true
             })
@@ -626,7 +627,9 @@ mod tests {
             )
             .unwrap_err();
             let mut small = Vec::new();
-            let e3 = read_ahead(Failing(&sample, fail_at), 64, 16, &mut |r| {
+            let e3 = read_ahead(Failing(&sample, fail_at), 64, 16, &mut |r: DataRecord<
+                '_,
+            >| {
                 small.push(r.offset);
                 true
             })

@@ -91,7 +91,9 @@ where
     let raw_others = options.raw_others;
     match options.order {
         ScanOrder::File => {
-            drive(source.into(), options.read_ahead, &mut |r| {
+            drive(source.into(), options.read_ahead, &mut |r: DataRecord<
+                '_,
+            >| {
                 // Each subscription's timestamps, unwrapped as its records come.
                 hand(&mut plans, raw_others, &mut f, &r, |u| u.push(r.payload))
             })

@@ -64,6 +64,7 @@ pub const POSITION_COMMANDS: &[u32] = &[
 ///   stays north near the flight), altitudes are not changed; a position of 0, 0 (no
 ///   fix) and values that are not numbers stay as they are;
 /// - with [`Anonymise::zero_utc`], the `time_utc_usec` fields (GPS time) are zeroed;
+/// - with [`Anonymise::zero_start`], the header's timestamp is 0;
 /// - the topics of raw receiver data ([`RAW_GPS_TOPICS`]) are left out.
 ///
 /// Everything else is kept byte for byte, as [`Edit`] keeps it.
@@ -97,6 +98,7 @@ pub struct Anonymise {
     to: (f64, f64),
     keep: Vec<String>,
     zero_utc: bool,
+    zero_start: bool,
 }
 
 impl Default for Anonymise {
@@ -112,6 +114,7 @@ impl Anonymise {
             to: (0.0, 0.0),
             keep: Vec::new(),
             zero_utc: false,
+            zero_start: false,
         }
     }
 
@@ -134,6 +137,15 @@ impl Anonymise {
         self
     }
 
+    /// Writes 0 as the header's timestamp (when logging started, in microseconds
+    /// since boot): how long the vehicle had been on before logging is then not told.
+    /// Data timestamps stay, so times counted from the start (as `ulog cut --start`
+    /// and most viewers count them) count from boot instead.
+    pub fn zero_start(mut self, on: bool) -> Anonymise {
+        self.zero_start = on;
+        self
+    }
+
     /// The [`Edit`] that anonymises `log` (add a window or topics to it as to any
     /// edit).
     pub fn edit<'f>(&self, log: &crate::ULog<'_>) -> Edit<'f> {
@@ -153,8 +165,11 @@ impl Anonymise {
             plans: HashMap::new(),
             zero_utc: self.zero_utc,
         };
-        Edit::new()
-            .exclude(raw)
+        let mut edit = Edit::new();
+        if self.zero_start {
+            edit = edit.header_timestamp(0);
+        }
+        edit.exclude(raw)
             .drop_info(drop)
             .map_payloads(move |sub, payload| positions.map(sub, payload))
     }

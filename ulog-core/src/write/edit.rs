@@ -5,13 +5,14 @@ use std::collections::{HashMap, HashSet};
 use std::io::Write;
 
 use crate::access::lookup::TopicNotFound;
-use crate::bytes::{u16_at, HEADER_SIZE, MESSAGE_HEADER_SIZE};
+use crate::bytes::{HEADER_SIZE, MAGIC};
 use crate::definitions::timestamp::Unwrapper;
-use crate::definitions::Subscription;
+use crate::definitions::{Definitions, Subscription};
 use crate::finding::Finding;
-use crate::log::message::Message;
-use crate::log::messages::Messages;
-use crate::log::ulog::ULog;
+use crate::framing::{Framer, Header, Record};
+use crate::log::message::{KeyValue, Message};
+use crate::pass::driver::{DataRecord, Hand, Visit};
+use crate::pass::source::{drive, Source};
 use crate::write::error::{WriteError, WriteErrorKind};
 use crate::write::raw::RawWriter;
 
@@ -25,8 +26,11 @@ type Mapper<'f> = Box<dyn FnMut(&Subscription, &mut [u8]) + 'f>;
 ///
 /// - the header, information, multi-information and default parameters, logged
 ///   strings are kept (logged strings inside the window only, by their own timestamp);
-/// - subscriptions of kept topics only, and with a topic filter the formats they use
-///   only (nested ones included; without a filter, every format);
+/// - subscriptions of kept topics only; every format without a topic filter, with
+///   [`Edit::only`] the formats of the named topics (nested ones included), with
+///   [`Edit::exclude`] every format but the excluded topics' own (the formats
+///   nested in them stay: formats are written before the subscriptions are met, so a
+///   nested format cannot be told from a topic that is subscribed later);
 /// - parameters as they were at the window's start: changes before it become the
 ///   initial values (a name first set by a change is added after the initial ones),
 ///   changes inside it stay changes, later ones are left out;
@@ -34,7 +38,7 @@ type Mapper<'f> = Box<dyn FnMut(&Subscription, &mut [u8]) + 'f>;
 /// - data messages with `start ≤ timestamp < end`, each topic by its own timestamp
 ///   (narrow version 0 timestamps unwrapped); a topic without a timestamp field, and
 ///   the parameter changes, dropouts and syncs, by the log's time where they stand (the
-///   highest data timestamp before them, as [`ULog`] gives it);
+///   highest data timestamp before them, as [`ULog`](crate::ULog) gives it);
 /// - appended data is data: it is written in place, and the flag bits say the result
 ///   has none (the appended offsets and the flag zeroed);
 /// - what the reader steps over (corruption, a truncated tail, misplaced flag bits)
@@ -68,6 +72,7 @@ pub struct Edit<'f> {
     only: Option<Vec<String>>,
     exclude: Vec<String>,
     drop_info: Vec<String>,
+    header_timestamp: Option<u64>,
     map: Option<Mapper<'f>>,
 }
 
@@ -79,6 +84,7 @@ impl core::fmt::Debug for Edit<'_> {
             .field("only", &self.only)
             .field("exclude", &self.exclude)
             .field("drop_info", &self.drop_info)
+            .field("header_timestamp", &self.header_timestamp)
             .field("map", &self.map.is_some())
             .finish()
     }
@@ -93,6 +99,9 @@ pub struct EditSummary {
     pub rows: u64,
     /// Data messages left out (other topics, outside the window).
     pub rows_left_out: u64,
+    /// Topics named by [`Edit::only`] or [`Edit::exclude`] that the log has a format
+    /// for but never subscribes (so no data of them was kept or left out).
+    pub unlogged: Vec<String>,
     /// What the reader stepped over in the input (not written).
     pub skipped: Vec<Finding>,
 }
@@ -131,6 +140,14 @@ impl<'f> Edit<'f> {
         self
     }
 
+    /// Writes `timestamp` (microseconds) as the header's: when logging started. Data
+    /// timestamps are not changed, so readers that count time from the header count
+    /// from another origin.
+    pub fn header_timestamp(mut self, timestamp: u64) -> Edit<'f> {
+        self.header_timestamp = Some(timestamp);
+        self
+    }
+
     /// Calls `map` on the payload of every data message written (after the msg_id),
     /// to change its bytes in place (its length stays).
     pub fn map_payloads(mut self, map: impl FnMut(&Subscription, &mut [u8]) + 'f) -> Edit<'f> {
@@ -138,183 +155,416 @@ impl<'f> Edit<'f> {
         self
     }
 
-    /// Writes the edited `log` to `out`.
+    /// Writes the edited log from `source` to `out`, in one pass over its messages in
+    /// file order: no index is built, and a reader or [`Source::file`] is read in
+    /// chunks on a second thread while the messages before are framed and written
+    /// (the memory held is a few read buffers), so that a cut costs about a framing
+    /// of the log and the writing of what is kept.
     ///
-    /// Errors: a topic of
-    /// [`Edit::only`] or [`Edit::exclude`] that is not in the log
-    /// ([`WriteErrorKind::TopicNotFound`], before anything is written), and failures to
-    /// write.
-    pub fn write<W: Write>(mut self, log: &ULog<'_>, out: W) -> Result<EditSummary, WriteError> {
-        let data = log.data();
-        for name in self.only.iter().flatten().chain(&self.exclude) {
-            if log.topic_instances(name).is_empty() {
-                let missing = TopicNotFound::in_log(log, name, None);
+    /// Nothing is written before the definitions are read and, with a window, before
+    /// the log reaches its start (the parameters written first are those at the
+    /// start): until then what is kept is held.
+    ///
+    /// Errors: a topic of [`Edit::only`] or [`Edit::exclude`] that no format of the
+    /// log names ([`WriteErrorKind::TopicNotFound`], before anything is written; a
+    /// topic with a format but no subscription is in [`EditSummary::unlogged`]),
+    /// input that is not a log ([`WriteErrorKind::Unreadable`], its error kept as the
+    /// source), and failures to write.
+    pub fn write<'s, W: Write>(
+        self,
+        source: impl Into<Source<'s>>,
+        out: W,
+    ) -> Result<EditSummary, WriteError> {
+        let mut editor = Editor {
+            start: self.start.unwrap_or(0),
+            end: self.end.unwrap_or(u64::MAX),
+            edit: self,
+            w: RawWriter::new(out),
+            summary: EditSummary::default(),
+            held: Some(Held::default()),
+            last: 0,
+            started: false,
+            topics: Vec::new(),
+            buffer: Vec::new(),
+            kept_ids: HashSet::new(),
+            subscribed: HashSet::new(),
+            error: None,
+            header: Header {
+                version: 1,
+                timestamp: 0,
+            },
+        };
+        let scan = drive(source.into(), true, &mut editor);
+        if let Some(e) = editor.error.take() {
+            return Err(e);
+        }
+        let scan = scan.map_err(WriteError::unreadable)?;
+        if let Some(h) = editor.held.take() {
+            let defs = h.defs.clone();
+            editor.write_held(h, defs.as_ref(), &scan.header)?;
+        }
+        let Editor {
+            edit,
+            mut w,
+            mut summary,
+            subscribed,
+            ..
+        } = editor;
+        summary.unlogged = edit
+            .only
+            .iter()
+            .flatten()
+            .chain(&edit.exclude)
+            .filter(|n| !subscribed.contains(n.as_str()))
+            .cloned()
+            .collect();
+        summary.skipped = scan.findings;
+        w.flush()?;
+        Ok(summary)
+    }
+}
+
+/// An edit under way: what [`Edit::write`]'s pass hands the messages to.
+struct Editor<'f, W: Write> {
+    edit: Edit<'f>,
+    start: u64,
+    end: u64,
+    w: RawWriter<W>,
+    summary: EditSummary,
+    /// What is kept before anything can be written; `None` once written.
+    held: Option<Held>,
+    /// The log's time: the highest data timestamp so far (the header's before any).
+    last: u64,
+    /// Whether a message has been met (and `last` set to the header's time).
+    started: bool,
+    /// Per subscription, met at its first data message: its timestamps, and whether
+    /// its topic is kept.
+    topics: Vec<Option<(Unwrapper, bool)>>,
+    buffer: Vec<u8>,
+    /// The msg_ids whose current subscription is kept.
+    kept_ids: HashSet<u16>,
+    subscribed: HashSet<String>,
+    /// What stopped the pass.
+    error: Option<WriteError>,
+    /// The input's header (once framed).
+    header: Header,
+}
+
+/// What an edit keeps before it can write: the messages (type and payload), how many
+/// of them are definitions (once known), the parameters changed before the start, and
+/// the definitions framing had at their end.
+#[derive(Default)]
+struct Held {
+    messages: Vec<(u8, Vec<u8>)>,
+    definitions: Option<usize>,
+    /// The last change before the start of each name: its payload.
+    folded: HashMap<String, Vec<u8>>,
+    /// Names first set by a change before the start, in the order they were.
+    added: Vec<String>,
+    defs: Option<Definitions>,
+}
+
+impl<'f, W: Write> Editor<'f, W> {
+    #[inline(always)]
+    fn inside(&self, t: u64) -> bool {
+        self.start <= t && t < self.end
+    }
+
+    fn kept(&self, name: &str) -> bool {
+        self.edit
+            .only
+            .as_ref()
+            .map_or(true, |only| only.iter().any(|n| n == name))
+            && !self.edit.exclude.iter().any(|n| n == name)
+    }
+
+    /// Writes what is held once it may be: after the definitions, once the log's
+    /// time has reached the start.
+    fn release(&mut self, in_definitions: bool, header: &Header) -> Result<(), WriteError> {
+        if in_definitions || self.last < self.start {
+            return Ok(());
+        }
+        if let Some(h) = self.held.take() {
+            let defs = h.defs.clone();
+            self.write_held(h, defs.as_ref(), header)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the header and what is held: the definitions (formats filtered, the
+    /// initial parameters as at the start, flag bits without appended data), the
+    /// parameters first set before the start, then the rest. First, the topics
+    /// asked for are looked for among the formats of `defs`.
+    fn write_held(
+        &mut self,
+        mut h: Held,
+        defs: Option<&Definitions>,
+        header: &Header,
+    ) -> Result<(), WriteError> {
+        let edit = &self.edit;
+        let empty = Definitions::new();
+        let defs = defs.unwrap_or(&empty);
+        for name in edit.only.iter().flatten().chain(&edit.exclude) {
+            if defs.formats_of(name).is_empty() {
+                // Sorted: suggestions as close as each other come in one order.
+                let mut names: Vec<&str> = defs.format_names().collect();
+                names.sort_unstable();
+                let missing = TopicNotFound::among(name, names.into_iter());
                 return Err(WriteError::new(
                     WriteErrorKind::TopicNotFound(missing),
                     None,
                 ));
             }
         }
-        let kept = |name: &str| {
-            self.only
-                .as_ref()
-                .map_or(true, |only| only.iter().any(|n| n == name))
-                && !self.exclude.iter().any(|n| n == name)
+        // With a topic filter, the formats the kept topics use, nested ones included:
+        // with `only`, those of the named topics; with `exclude`, those of every
+        // other format (a format nested in an excluded topic stays: before the
+        // subscriptions are seen, it cannot be told from a topic's own).
+        let formats: Option<HashSet<String>> = match (&edit.only, edit.exclude.is_empty()) {
+            (None, true) => None,
+            (Some(only), _) => Some(
+                only.iter()
+                    .filter(|n| !edit.exclude.contains(n))
+                    .flat_map(|n| defs.formats_of(n))
+                    .collect(),
+            ),
+            (None, false) => Some(
+                defs.format_names()
+                    .filter(|n| !edit.exclude.iter().any(|x| x == n))
+                    .flat_map(|n| defs.formats_of(n))
+                    .collect(),
+            ),
         };
-        // With a topic filter, only the formats the kept topics use, nested ones
-        // included; without, all of them.
-        let filtered = self.only.is_some() || !self.exclude.is_empty();
-        let mut formats: HashSet<String> = HashSet::new();
-        for sub in log.subscriptions().iter().filter(|s| kept(s.name())) {
-            formats.insert(sub.name().to_owned());
-            if let Ok(layout) = sub.layout() {
-                formats.extend(layout.formats().iter().map(|f| f.name.clone()));
+        let timestamp = edit.header_timestamp.unwrap_or(header.timestamp);
+        let mut bytes = MAGIC.to_vec();
+        bytes.push(header.version);
+        bytes.extend_from_slice(&timestamp.to_le_bytes());
+        self.w.bytes(&bytes)?;
+        let definitions = h.definitions.unwrap_or(h.messages.len());
+        let mut added = std::mem::take(&mut h.added);
+        // An initial value's change before the start replaces it; names first set by
+        // a change are added after the definitions.
+        let mut initial: HashSet<String> = HashSet::new();
+        for (i, (msg_type, payload)) in h.messages.iter_mut().enumerate() {
+            if i == definitions {
+                self.write_added(&mut added, &h.folded, &initial)?;
             }
-        }
-        let start = self.start.unwrap_or(0);
-        let end = self.end.unwrap_or(u64::MAX);
-        let inside = |t: u64| start <= t && t < end;
-        // Parameters at the start: the last change before it of each name.
-        let mut folded: HashMap<String, &[u8]> = HashMap::new();
-        let mut added: Vec<String> = Vec::new();
-        if self.start.is_some() {
-            let initial: HashSet<String> = log
-                .initial_params()
-                .iter()
-                .map(|kv| kv.name().into_owned())
-                .collect();
-            for change in log.param_changes().iter().filter(|c| c.timestamp < start) {
-                let name = change.kv.name().into_owned();
-                if !initial.contains(&name) && !folded.contains_key(&name) {
-                    added.push(name.clone());
+            match *msg_type {
+                b'B' => {
+                    payload[8] &= !1;
+                    payload[16..40].fill(0);
                 }
-                folded.insert(name, payload_at(data, change.offset));
-            }
-        }
-
-        let mut w = RawWriter::new(out);
-        let mut summary = EditSummary::default();
-        let mut messages = Messages::new(data);
-        let mut in_definitions = true;
-        let mut last = log.start_timestamp();
-        // Per subscription, met at its first data message: its timestamps, and whether
-        // its topic is kept.
-        let mut topics: Vec<Option<(Unwrapper, bool)>> = Vec::new();
-        let mut buffer = Vec::new();
-        let mut started = false;
-        let mut kept_ids: HashSet<u16> = HashSet::new();
-        while let Some(m) = messages.next() {
-            let m = m.map_err(WriteError::unreadable)?;
-            if !started {
-                w.bytes(&data[..HEADER_SIZE])?;
-                started = true;
-            }
-            let offset = m.offset as usize;
-            let payload = payload_at(data, m.offset);
-            let ends_definitions = matches!(m.message, Message::Subscribe { .. } | Message::Log(_));
-            if in_definitions && ends_definitions {
-                in_definitions = false;
-                // Parameters first set by a change before the window.
-                for name in &added {
-                    w.message(b'P', &[folded[name]])?;
-                    summary.messages += 1;
-                }
-            }
-            let keep = match &m.message {
-                Message::FlagBits(_) => {
-                    if offset == HEADER_SIZE && payload.len() >= 40 {
-                        // The result has no appended data: its offsets and flag go.
-                        let mut bits = payload.to_vec();
-                        bits[8] &= !1;
-                        bits[16..40].fill(0);
-                        w.message(b'B', &[&bits])?;
-                        summary.messages += 1;
-                    }
-                    false
-                }
-                Message::Format(_) if filtered => {
+                b'F' => {
                     let name = payload.split(|&b| b == b':').next().unwrap_or(&[]);
-                    formats.contains(&*String::from_utf8_lossy(name))
-                }
-                Message::Param(kv) if in_definitions => {
-                    let value = folded.get(&*kv.name()).copied().unwrap_or(payload);
-                    w.message(b'P', &[value])?;
-                    summary.messages += 1;
-                    false
-                }
-                Message::Param(_) | Message::Dropout { .. } | Message::Sync(_) => inside(last),
-                Message::Log(l) => inside(l.timestamp),
-                Message::Subscribe { msg_id, .. } => {
-                    let keep = messages
-                        .subscription(*msg_id)
-                        .is_some_and(|s| kept(s.name()));
-                    if keep {
-                        kept_ids.insert(*msg_id);
-                    } else {
-                        kept_ids.remove(msg_id);
-                    }
-                    keep
-                }
-                // Framing has let the subscription go already: whether it was kept is
-                // remembered.
-                Message::Unsubscribe { msg_id } => kept_ids.remove(msg_id),
-                Message::Data { msg_id, payload } => {
-                    let Some(sub) = messages.subscription(*msg_id) else {
-                        continue;
-                    };
-                    let i = sub.index();
-                    if topics.len() <= i {
-                        topics.resize_with(i + 1, || None);
-                    }
-                    let (clock, chosen) = topics[i].get_or_insert_with(|| {
-                        (Unwrapper::new(sub.timestamp_field()), kept(sub.name()))
-                    });
-                    let time = match clock.push(payload) {
-                        Some(t) => {
-                            last = last.max(t);
-                            t
-                        }
-                        None => last,
-                    };
-                    if !*chosen || !inside(time) {
-                        summary.rows_left_out += 1;
+                    let name = String::from_utf8_lossy(name);
+                    if formats.as_ref().is_some_and(|f| !f.contains(&*name)) {
                         continue;
                     }
-                    if let Some(map) = &mut self.map {
-                        buffer.clear();
-                        buffer.extend_from_slice(&msg_id.to_le_bytes());
-                        buffer.extend_from_slice(payload);
-                        map(sub, &mut buffer[2..]);
-                        w.message(b'D', &[&buffer])?;
-                        summary.messages += 1;
-                        summary.rows += 1;
-                        continue;
+                }
+                b'P' if i < definitions => {
+                    let name = param_name(payload);
+                    if let Some(value) = h.folded.get(&name) {
+                        payload.clone_from(value);
                     }
-                    summary.rows += 1;
-                    true
+                    initial.insert(name);
                 }
-                Message::Info(kv) | Message::MultiInfo { kv, .. } => {
-                    !self.drop_info.iter().any(|k| *k == kv.name())
-                }
-                Message::Format(_) | Message::DefaultParam { .. } | Message::Unknown { .. } => true,
-            };
-            if keep {
-                w.message(data[offset + 2], &[payload])?;
-                summary.messages += 1;
+                _ => {}
+            }
+            self.w.message(*msg_type, &[payload])?;
+            self.summary.messages += 1;
+        }
+        self.write_added(&mut added, &h.folded, &initial)
+    }
+
+    /// The parameters first set by a change before the start (not among `initial`),
+    /// once.
+    fn write_added(
+        &mut self,
+        added: &mut Vec<String>,
+        folded: &HashMap<String, Vec<u8>>,
+        initial: &HashSet<String>,
+    ) -> Result<(), WriteError> {
+        for name in std::mem::take(added) {
+            if !initial.contains(&name) {
+                self.w.message(b'P', &[&folded[&name]])?;
+                self.summary.messages += 1;
             }
         }
-        if !started {
-            w.bytes(&data[..HEADER_SIZE.min(data.len())])?;
+        Ok(())
+    }
+
+    /// A message kept: written, or held until what comes before it is.
+    fn keep(&mut self, msg_type: u8, payload: &[u8]) -> Result<(), WriteError> {
+        match &mut self.held {
+            Some(h) => h.messages.push((msg_type, payload.to_vec())),
+            None => {
+                self.w.message(msg_type, &[payload])?;
+                self.summary.messages += 1;
+            }
         }
-        summary.skipped = messages.findings().to_vec();
-        w.flush()?;
-        Ok(summary)
+        Ok(())
+    }
+
+    fn other_message(
+        &mut self,
+        r: &Record,
+        payload: &[u8],
+        framer: &Framer,
+    ) -> Result<(), WriteError> {
+        let Some(header) = framer.header else {
+            return Ok(());
+        };
+        self.header = header;
+        if !self.started {
+            self.last = header.timestamp;
+            self.started = true;
+        }
+        let in_definitions = framer.in_definitions;
+        if let Some(h) = &mut self.held {
+            if in_definitions {
+                h.defs = Some(framer.defs.clone());
+            } else if h.definitions.is_none() {
+                h.definitions = Some(h.messages.len());
+            }
+        }
+        self.release(in_definitions, &header)?;
+        let last = self.last;
+        let message = Message::from_record(r, payload, framer.flag_bits);
+        let keep = match &message {
+            // Only the first message can be the flag bits (the result has no
+            // appended data, which is seen to when they are written).
+            Message::FlagBits(_) => r.offset as usize == HEADER_SIZE && payload.len() >= 40,
+            Message::Param(_) if in_definitions => true,
+            Message::Param(kv) => {
+                if let (Some(h), true) = (&mut self.held, self.edit.start.is_some()) {
+                    // A change before the start: folded into the initial values.
+                    let name = kv.name().into_owned();
+                    if !h.folded.contains_key(&name) {
+                        h.added.push(name.clone());
+                    }
+                    h.folded.insert(name, payload.to_vec());
+                    return Ok(());
+                }
+                self.inside(last)
+            }
+            Message::Dropout { .. } | Message::Sync(_) => self.inside(last),
+            Message::Log(l) => self.inside(l.timestamp),
+            Message::Subscribe { msg_id, .. } => {
+                let sub = framer
+                    .defs
+                    .sub_index(*msg_id)
+                    .and_then(|i| framer.defs.subscriptions().get(i as usize));
+                let keep = sub.is_some_and(|s| self.kept(s.name()));
+                if let Some(s) = sub {
+                    if !self.subscribed.contains(s.name()) {
+                        self.subscribed.insert(s.name().to_owned());
+                    }
+                }
+                if keep {
+                    self.kept_ids.insert(*msg_id);
+                } else {
+                    self.kept_ids.remove(msg_id);
+                }
+                keep
+            }
+            // Framing has let the subscription go already: whether it was kept is
+            // remembered.
+            Message::Unsubscribe { msg_id } => self.kept_ids.remove(msg_id),
+            Message::Info(kv) | Message::MultiInfo { kv, .. } => {
+                !self.edit.drop_info.iter().any(|k| *k == kv.name())
+            }
+            Message::Format(_) | Message::DefaultParam { .. } | Message::Unknown { .. } => true,
+            Message::Data { .. } => false,
+        };
+        if keep {
+            self.keep(r.msg_type, payload)?;
+        }
+        Ok(())
+    }
+
+    /// The first data message of a topic instance: whether its topic is kept, and
+    /// its clock.
+    #[cold]
+    fn first_data(&mut self, r: &DataRecord<'_>) {
+        let i = r.topic.index();
+        if self.topics.len() <= i {
+            self.topics.resize_with(i + 1, || None);
+        }
+        let chosen = self.kept(r.topic.name());
+        self.topics[i] = Some((Unwrapper::new(r.topic.timestamp_field()), chosen));
+    }
+
+    /// A data message to write (inside the window, of a kept topic): what is held
+    /// goes first (its time is inside the window, so the log's is too).
+    #[inline(never)]
+    fn write_data(&mut self, r: DataRecord<'_>) -> Result<(), WriteError> {
+        if let Some(h) = self.held.take() {
+            let defs = h.defs.clone();
+            let header = self.header;
+            self.write_held(h, defs.as_ref(), &header)?;
+        }
+        self.summary.rows += 1;
+        self.summary.messages += 1;
+        let id = r.msg_id.to_le_bytes();
+        match &mut self.edit.map {
+            Some(map) => {
+                self.buffer.clear();
+                self.buffer.extend_from_slice(r.payload);
+                map(r.topic, &mut self.buffer);
+                self.w.message(b'D', &[&id, &self.buffer])
+            }
+            None => self.w.message(b'D', &[&id, r.payload]),
+        }
     }
 }
 
-/// The payload of the message at `offset`.
-fn payload_at(data: &[u8], offset: u64) -> &[u8] {
-    let at = offset as usize;
-    let size = usize::from(u16_at(data, at));
-    &data[at + MESSAGE_HEADER_SIZE..at + MESSAGE_HEADER_SIZE + size]
+impl<W: Write> Visit for Editor<'_, W> {
+    // The path of every data message: its time, and whether it is kept (most of a
+    // cut's are not), inlined into framing's loop.
+    #[inline(always)]
+    fn data(&mut self, record: DataRecord<'_>) -> Hand {
+        let i = record.topic.index();
+        if !matches!(self.topics.get(i), Some(Some(_))) {
+            self.first_data(&record);
+        }
+        let Some(Some((clock, chosen))) = self.topics.get_mut(i) else {
+            return Hand::Next;
+        };
+        let time = match clock.push(record.payload) {
+            Some(t) => {
+                self.last = self.last.max(t);
+                t
+            }
+            None => self.last,
+        };
+        if !*chosen || !self.inside(time) {
+            self.summary.rows_left_out += 1;
+            return Hand::Next;
+        }
+        match self.write_data(record) {
+            Ok(()) => Hand::Next,
+            Err(e) => {
+                self.error = Some(e);
+                Hand::Stop
+            }
+        }
+    }
+
+    fn other(&mut self, record: &Record, payload: &[u8], framer: &Framer) -> bool {
+        match self.other_message(record, payload, framer) {
+            Ok(()) => true,
+            Err(e) => {
+                self.error = Some(e);
+                false
+            }
+        }
+    }
+}
+
+/// The name of a parameter message's key (`type name`), as the reader gives it.
+fn param_name(payload: &[u8]) -> String {
+    let key_len = usize::from(payload.first().copied().unwrap_or(0));
+    let key = payload.get(1..1 + key_len).unwrap_or(&[]);
+    let raw = payload.get(1 + key_len..).unwrap_or(&[]);
+    KeyValue::parse(key, raw).name().into_owned()
 }
