@@ -5,6 +5,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value as Json};
+use ulog_core::events::{EventFinding, EventOptions};
 use ulog_core::read::{FindingKind, Unwrapper};
 use ulog_core::ULog;
 
@@ -22,7 +23,9 @@ Severities:
            bits message in a version 1 log, redefined formats, subscriptions to unknown
            formats, timestamps that go backwards or jump (per topic instance), invalid
            log levels, unknown compatible flag bits, bad appended offsets
-  note     facts worth knowing: dropouts, appended data, parameters without a default
+           PX4 event metadata that cannot be used, events it does not define
+  note     facts worth knowing: dropouts, appended data, parameters without a default,
+           events without metadata in the log, events logged at error level or worse
 Exit status: 0 when every file is free of errors and warnings, 1 when one has any,
 3 when a file cannot be read, 4 when one is not a ULog log (the highest applies).
 
@@ -165,8 +168,53 @@ pub fn examine(log: &ULog<'_>) -> Vec<Problem> {
         );
     }
     defaults_problem(log, &mut out);
+    events_problems(log, &mut out);
     out.sort_by_key(|p| (p.severity, p.offset.unwrap_or(0)));
     out
+}
+
+/// PX4 events: what could not be decoded (metadata missing is a note, bad metadata
+/// and undefined events are warnings), and the events of the `default` group logged
+/// at error level or worse, as notes with their text.
+fn events_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
+    let events = log.events(&EventOptions::default());
+    for f in &events.findings {
+        let (severity, kind) = match f {
+            EventFinding::NoMetadata => (Severity::Note, "no_event_metadata"),
+            EventFinding::BadMetadata(_) => (Severity::Warning, "bad_event_metadata"),
+            EventFinding::UnknownId { .. } => (Severity::Warning, "unknown_event"),
+            _ => (Severity::Warning, "bad_event"),
+        };
+        out.push(Problem::new(severity, kind, f.to_string()));
+    }
+    let offsets = log
+        .topic("event", 0)
+        .map(|t| t.message_offsets().to_vec())
+        .unwrap_or_default();
+    // The `default` group: what is shown as messages (arming checks and health
+    // reports repeat as the vehicle checks itself).
+    let shown = |e: &&ulog_core::events::Event| {
+        e.level <= 3 && e.group.as_deref().map_or(true, |g| g == "default")
+    };
+    for e in events.iter().filter(shown) {
+        let mut p = Problem::new(
+            Severity::Note,
+            "event_error",
+            format!(
+                "{} at {:.3} s: {}",
+                e.level_name(),
+                seconds(log, e.timestamp),
+                e.text
+            ),
+        );
+        p.offset = offsets.get(e.row).copied();
+        out.push(p);
+    }
+}
+
+/// Seconds of `timestamp` since the log's start.
+fn seconds(log: &ULog<'_>, timestamp: u64) -> f64 {
+    timestamp.saturating_sub(log.start_timestamp()) as f64 / 1e6
 }
 
 fn defaults_problem(log: &ULog<'_>, out: &mut Vec<Problem>) {

@@ -5,6 +5,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use serde_json::{json, Map, Value as Json};
+use ulog_core::events::EventOptions;
 use ulog_core::read::{KeyValue, MessageAt};
 use ulog_core::{FieldReader, Finding, Message, ULog};
 
@@ -25,7 +26,8 @@ and by type:
   P  key, name, value            Q  key, name, value, default_types
   A  msg_id, multi_id, topic     R  msg_id
   D  msg_id, topic, multi_id, fields {column: value} (pyulog's column names, in
-     order) or, when it cannot be decoded, size and error
+     order) or, when it cannot be decoded, size and error; rows of the PX4 event
+     topic also event {id, name, group, level, level_name, text}
   L, C  level (0-7 as a number), level_name, tag (C only), timestamp, text
   S  (nothing else)              O  duration_ms
   ?  msg_type (the byte), size
@@ -35,7 +37,8 @@ Findings of the reader appear where they start, as objects with
 /// Print every message of a log in file order with its byte offset: flag bits,
 /// formats, information, parameters, subscriptions, data (decoded, field by field),
 /// logged strings, syncs, dropouts and unknown types, with what the reader found
-/// (damage, skipped bytes) where it starts.
+/// (damage, skipped bytes) where it starts. Rows of the PX4 `event` topic are
+/// followed by the event they hold, decoded (`=> event LEVEL: text`).
 #[derive(Debug, clap::Args)]
 #[command(
     about = "Every message in file order, with its byte offset",
@@ -83,6 +86,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     findings.sort_by_key(|f| f.offset);
     let mut next_finding = 0;
 
+    // PX4 events, shown beside the rows of the event topic (instance 0).
+    let events = log.events(&EventOptions::default());
+    let event_topic = log.topic("event", 0).ok().map(|t| t.subscription().index());
+    let mut event_row = 0usize;
+
     let progress = Progress::new(bytes.len() as u64, "dump bytes");
     let mut last_offset = 0u64;
     let mut out = BufWriter::with_capacity(1 << 16, io::stdout().lock());
@@ -121,12 +129,30 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 }
             }
         }
+        // A row of the event topic: the event it is, decoded.
+        let event = match &m.message {
+            Message::Data { msg_id, .. } if current.get(msg_id) == event_topic.as_ref() => {
+                event_row += 1;
+                events.events.get(event_row - 1)
+            }
+            _ => None,
+        };
         line.clear();
         if args.json {
-            let j = message_json(&m, &log, &current, &mut decoders);
+            let mut j = message_json(&m, &log, &current, &mut decoders);
+            if let (Some(e), Json::Object(o)) = (event, &mut j) {
+                o.insert(
+                    "event".into(),
+                    json!({"id": e.id, "name": e.name, "group": e.group,
+                           "level": e.level, "level_name": e.level_name(), "text": e.text}),
+                );
+            }
             line.push_str(&j.to_string());
         } else {
             message_text(&mut line, &m, &log, &current, &mut decoders);
+            if let Some(e) = event {
+                line.push_str(&format!(" => event {}: {}", e.level_name(), e.text));
+            }
         }
         line.push('\n');
         out.write_all(line.as_bytes()).map_err(stdout_err)?;

@@ -1,25 +1,35 @@
-//! `ulog messages`: the logged strings, as pyulog's `ulog_messages` prints them.
+//! `ulog messages`: the logged strings and PX4 events, as pyulog's `ulog_messages`
+//! prints them.
 
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
-use ulog_core::read::{LogLevel, LoggedString};
+use ulog_core::events::{EventFinding, EventOptions, Metadata};
+use ulog_core::read::LogLevel;
 use ulog_core::Value;
 
-use crate::failure::{stdout_err, Failure};
+use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
 
-/// Print the logged strings (`L`) and tagged logged strings (`C`) as
+/// Print the logged strings (`L`), tagged logged strings (`C`) and PX4 events as
 /// `H:MM:SS.mmm LEVEL: text`, like pyulog's `ulog_messages`.
 ///
-/// As ulog_messages does for PX4 logs (`sys_name` is `PX4`), messages are ordered by
-/// timestamp. Unlike it, PX4 "events" (the `event` topic) are not decoded, so their
-/// string copies (texts ending in a tab) are kept rather than replaced by the decoded
-/// event; and tagged messages are printed too (ulog_messages leaves them out; use
-/// `--no-tagged` for its output). Levels outside '0'..'7' print as UNKNOWN.
+/// For PX4 logs (`sys_name` is `PX4`), as ulog_messages does: the events of the
+/// `event` topic are decoded with the metadata the log embeds (those of the
+/// `default` group, below the protocol level, at their internal log level), the
+/// logged strings that PX4 writes as copies of events (texts ending in a tab) are left
+/// out, and everything is ordered by timestamp (events first where times are equal).
+/// A log without event metadata has its events printed by id and raw arguments (a
+/// line on stderr says so; `--events-json` takes PX4's `all_events.json.xz` or the
+/// JSON), and keeps the copies, without their tab. Unlike ulog_messages, tagged
+/// messages are printed too (`--no-tagged` leaves them out). Levels of logged
+/// strings outside '0'..'7' print as UNKNOWN.
+///
+/// `--profile` chooses which `<profile>` parts of event messages show: `normal`
+/// (what a ground station shows; the default) or `dev` (what ulog_messages shows).
 #[derive(Debug, clap::Args)]
 #[command(
-    about = "The logged strings, as pyulog's ulog_messages prints them",
+    about = "Logged strings and events, as pyulog's ulog_messages prints them",
     long_about
 )]
 pub struct Args {
@@ -28,40 +38,80 @@ pub struct Args {
     /// Leave out tagged messages (`C`), as ulog_messages does.
     #[arg(long)]
     no_tagged: bool,
+    /// Event metadata to decode events with (JSON, or xz-compressed JSON), instead of
+    /// the log's.
+    #[arg(long, value_name = "FILE")]
+    events_json: Option<PathBuf>,
+    /// The profile of event messages.
+    #[arg(long, default_value = "normal", value_parser = ["normal", "dev"])]
+    profile: String,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
-    let mut msgs: Vec<&LoggedString<'_>> = log
-        .logged_messages()
-        .iter()
-        .filter(|m| !(args.no_tagged && m.tag.is_some()))
-        .collect();
+    let mut options = EventOptions::default().profile(args.profile.clone());
+    if let Some(path) = &args.events_json {
+        let shown = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+        let metadata = Metadata::from_bytes(&bytes).map_err(|e| Failure::about(&shown, e))?;
+        options = options.metadata(metadata);
+    }
+    // (timestamp, level, text), events first.
+    let mut lines: Vec<(u64, &'static str, String)> = Vec::new();
     let px4 = matches!(log.info_value("sys_name"), Some(Value::Str(s)) if s.as_bytes() == b"PX4");
+    let mut decoded = false;
     if px4 {
-        msgs.sort_by_key(|m| m.timestamp); // stable, as Python's sort
+        let events = log.events(&options);
+        let mut stderr = io::stderr();
+        for f in &events.findings {
+            let _ = writeln!(stderr, "ulog: {name}: {f}");
+        }
+        decoded = !events
+            .findings
+            .iter()
+            .any(|f| matches!(f, EventFinding::NoMetadata | EventFinding::BadMetadata(_)));
+        for e in events.iter() {
+            let shown = e.level < 8 && e.group.as_deref().map_or(true, |g| g == "default");
+            if shown {
+                lines.push((e.timestamp, e.level_name(), e.text.clone()));
+            }
+        }
+    }
+    for m in log.logged_messages() {
+        if args.no_tagged && m.tag.is_some() {
+            continue;
+        }
+        let text = m.text.to_string();
+        let text = match (px4, text.strip_suffix('\t')) {
+            // A copy of an event, which is printed decoded.
+            (true, Some(_)) if decoded => continue,
+            (true, Some(t)) => t.to_owned(),
+            _ => text,
+        };
+        lines.push((m.timestamp, level_name(m.raw_level), text));
+    }
+    if px4 {
+        lines.sort_by_key(|l| l.0); // stable, as Python's sort
     }
     let mut out = BufWriter::new(io::stdout().lock());
-    for m in msgs {
-        writeln!(out, "{}", line(m)).map_err(stdout_err)?;
+    for (t, level, text) in &lines {
+        writeln!(out, "{}", line(*t, level, text)).map_err(stdout_err)?;
     }
     out.flush().map_err(stdout_err)
 }
 
 /// `H:MM:SS.mmm LEVEL: text`.
-pub fn line(m: &LoggedString<'_>) -> String {
-    let total_ms = m.timestamp / 1000;
+pub fn line(timestamp: u64, level: &str, text: &str) -> String {
+    let total_ms = timestamp / 1000;
     let s = total_ms / 1000;
     format!(
-        "{}:{:02}:{:02}.{:03} {}: {}",
+        "{}:{:02}:{:02}.{:03} {level}: {text}",
         s / 3600,
         s / 60 % 60,
         s % 60,
         total_ms % 1000,
-        level_name(m.raw_level),
-        m.text
     )
 }
 

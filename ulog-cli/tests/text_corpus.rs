@@ -92,12 +92,25 @@ fn messages_equal_pyulog_summary() {
         if s["info"]["sys_name"] == "PX4" {
             plain.sort_by_key(|m| m.0);
         }
-        let expected: String = plain.iter().map(|m| m.1.clone() + "\n").collect();
         let out = common::ulog_ok([
             "messages".as_ref(),
             "--no-tagged".as_ref(),
             path.as_os_str(),
         ]);
+        let bytes = std::fs::read(&path).unwrap();
+        let log = ulog_core::ULog::parse(&bytes).unwrap();
+        let events = log.topic("event", 0).is_ok_and(|t| !t.is_empty());
+        if s["info"]["sys_name"] == "PX4" && events {
+            // Events are printed among the strings (`messages_events.rs` compares the
+            // whole output with ulog_messages'): the strings that are not copies of
+            // events (no trailing tab) are there, in order.
+            let mut lines = out.lines();
+            for (_, m) in plain.iter().filter(|m| !m.1.ends_with('\t')) {
+                assert!(lines.any(|l| l == m), "{stem}: `{m}`");
+            }
+            continue;
+        }
+        let expected: String = plain.iter().map(|m| m.1.clone() + "\n").collect();
         assert_eq!(out, expected, "{stem}");
 
         let all = common::ulog_ok(["messages".as_ref(), path.as_os_str()]);

@@ -66,6 +66,8 @@ mod bytes;
 mod definitions;
 mod error;
 mod estimate;
+#[cfg(feature = "events")]
+pub mod events;
 #[cfg(feature = "parquet")]
 pub mod export;
 mod finding;

@@ -27,6 +27,9 @@ pub const METADATA_FILE: &str = "metadata.json";
 /// - `logged_messages`: list of `{timestamp, level, level_raw, tag, text}` (`level`
 ///   is `EMERGENCY`…`DEBUG` or null for an invalid level byte; `tag` is null for
 ///   untagged messages);
+/// - `events` (feature `events`): the PX4 events, list of `{timestamp, id, name,
+///   group, level, text}` (see [`ULog::events`]; `name` and `group` null for an
+///   event the metadata does not define);
 /// - `dropouts`: list of `{timestamp, duration_ms}`;
 /// - `findings`: list of `{offset, len, damage, text}` (what the reader stepped over);
 /// - `topics`: list of `{name, multi_id, rows}`, every subscription in file order.
@@ -47,12 +50,16 @@ pub const METADATA_FILE: &str = "metadata.json";
 /// ```
 pub fn metadata_json(log: &ULog<'_>) -> String {
     let rows: Vec<usize> = log.topics().map(|t| t.len()).collect();
+    #[cfg(feature = "events")]
+    let events = log.events(&crate::events::EventOptions::default());
     json(
         log,
         &Facts {
             last_timestamp: log.last_timestamp(),
             findings: log.findings(),
             rows: &rows,
+            #[cfg(feature = "events")]
+            events: Some(&events),
         },
     )
 }
@@ -65,6 +72,9 @@ pub(super) struct Facts<'f> {
     pub findings: &'f [Finding],
     /// Rows per subscription, in the order of [`ULog::topics`].
     pub rows: &'f [usize],
+    /// The PX4 events, decoded.
+    #[cfg(feature = "events")]
+    pub events: Option<&'f crate::events::Events>,
 }
 
 /// [`metadata_json`] of `log` with `facts`.
@@ -165,6 +175,36 @@ pub(super) fn json(log: &ULog<'_>, facts: &Facts<'_>) -> String {
         j.close('}');
     }
     j.close(']');
+
+    #[cfg(feature = "events")]
+    {
+        j.key("events");
+        j.open('[');
+        for e in facts.events.iter().flat_map(|e| e.iter()) {
+            j.item();
+            j.open('{');
+            j.key("timestamp");
+            j.raw(&e.timestamp.to_string());
+            j.key("id");
+            j.raw(&e.id.to_string());
+            j.key("name");
+            match &e.name {
+                Some(n) => j.string(n),
+                None => j.raw("null"),
+            }
+            j.key("group");
+            match &e.group {
+                Some(g) => j.string(g),
+                None => j.raw("null"),
+            }
+            j.key("level");
+            j.string(e.level_name());
+            j.key("text");
+            j.string(&e.text);
+            j.close('}');
+        }
+        j.close(']');
+    }
 
     j.key("dropouts");
     j.open('[');

@@ -145,6 +145,9 @@ pub(super) fn export(
     let kept = Kept::default();
     let clock = kept.clock.clone();
     let mut last = 0u64;
+    // Rows of the PX4 event topic (instance 0): timestamp and payload.
+    #[cfg_attr(not(feature = "events"), allow(unused_mut, unused_variables))]
+    let mut event_rows: Vec<(u64, Vec<u8>)> = Vec::new();
     let mut buffered = 0usize;
     let budget = options.buffer_bytes.max(1);
     let mut reported = 0u64;
@@ -214,6 +217,7 @@ pub(super) fn export(
                 fail(e);
             }
         };
+        let mut event_topic: Option<usize> = None;
         let result = drive_keeping(source, true, kept, &mut |r: crate::DataRecord<'_>| {
             let i = r.topic.index();
             if slots.len() <= i {
@@ -224,13 +228,21 @@ pub(super) fn export(
             if matches!(slots[i], Slot::Unseen) {
                 clocks[i] = Unwrapper::new(r.topic.timestamp_field());
                 slots[i] = open(r.topic, dir, options, &mut skipped);
+                if r.topic.name() == "event" && r.topic.multi_id() == 0 {
+                    event_topic = Some(i);
+                }
             }
             rows[i] += 1;
-            if let Some(t) = clocks[i].push(r.payload) {
+            let time = clocks[i].push(r.payload);
+            if let Some(t) = time {
                 if t > last {
                     last = t;
                     clock.store(t, Ordering::Relaxed);
                 }
+            }
+            // PX4 events, for the metadata (a few hundred small rows).
+            if event_topic == Some(i) {
+                event_rows.push((time.unwrap_or(last), r.payload.to_vec()));
             }
             if r.offset >= reported + PROGRESS_STEP {
                 reported = r.offset;
@@ -340,10 +352,17 @@ pub(super) fn export(
 
         let missing = missing_topics(&log, options)?;
         rows.resize(log.subscriptions().len(), 0);
+        #[cfg(feature = "events")]
+        let events = log.topic("event", 0).ok().map(|topic| {
+            let rows = event_rows.iter().map(|(t, p)| (*t, &p[..]));
+            log.decode_events(&topic, &crate::events::EventOptions::default(), rows)
+        });
         let facts = Facts {
             last_timestamp: last.max(start),
             findings: &summary.findings,
             rows: &rows[..log.subscriptions().len()],
+            #[cfg(feature = "events")]
+            events: events.as_ref(),
         };
         std::fs::write(&metadata_partial, json(&log, &facts))
             .map_err(|e| ExportError::io(e, &metadata))?;
