@@ -401,6 +401,15 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
                          out_dir=True, note="Python process"))
     P.append(Program("check", "ours (ulog check)", [b["ulog"], "check", path], statuses=(0, 1),
                      note="framing, every finding, exit 1 on warnings"))
+    # PX4 events decoded and merged with the logged strings, as ulog_messages prints them.
+    P.append(Program("events", "ours (ulog messages)", [b["ulog"], "messages", path],
+                     note="events decoded with the log's metadata, merged with the logged strings"))
+    if pyulog_ok:
+        P.append(Program("events", "pyulog 1.3 ulog_messages",
+                         [sys.executable, "-c",
+                          "import sys; from pyulog.messages import main; "
+                          "sys.argv = ['ulog_messages', sys.argv[1]]; main()", path],
+                         note="Python process; reads only the event topic's data"))
     # Editing: a tenth of the log, from its middle, against reading it whole.
     duration = log_duration(b["ulog"], path)
     if duration:
@@ -597,6 +606,8 @@ def targets(results, size):
           t("px4-ulog master (stream)"), 0.5)
     ratio("cutting 10 % of the log < reading it (ulog info)", t("ours (ulog cut, middle 10 %)"),
           t("ours (ulog info)"), 1.0)
+    ratio("events (ulog messages) ≤ 0.1 × pyulog ulog_messages", t("ours (ulog messages)"),
+          t("pyulog 1.3 ulog_messages"), 0.1)
     return out
 
 

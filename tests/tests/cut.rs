@@ -396,3 +396,37 @@ fn topics_are_chosen_by_their_formats_and_a_window_past_the_end_keeps_the_defini
     assert_eq!(ULog::parse(&out).unwrap().start_timestamp(), 0);
     assert_eq!(out[16..], bytes[16..]);
 }
+
+#[test]
+fn a_format_after_the_definitions_is_kept_with_its_topic() {
+    // The spec puts formats in the definitions section; framing accepts one later,
+    // and a cut must then still write it before its subscription.
+    use ulog_core::testing::LogBuilder;
+    let mut b = LogBuilder::new(1, 0);
+    b.format("a:uint64_t timestamp;");
+    b.subscribe(0, 0, "a");
+    b.format("b:uint64_t timestamp;uint8_t x;");
+    b.subscribe(0, 1, "b");
+    for t in [1_000u64, 2_000, 3_000] {
+        b.data(0, &t.to_le_bytes());
+        b.data(1, &[&t.to_le_bytes()[..], &[1]].concat());
+    }
+    let bytes = b.into_bytes();
+    for window in [None, Some(1_500)] {
+        let mut out = Vec::new();
+        Edit::new()
+            .window(window, None)
+            .exclude(["a"])
+            .write(&bytes, &mut out)
+            .unwrap();
+        let cut = ULog::parse(&out).unwrap();
+        assert!(
+            cut.findings().is_empty(),
+            "{window:?}: {:?}",
+            cut.findings()
+        );
+        let rows = cut.topic("b", 0).unwrap().len();
+        assert_eq!(rows, if window.is_some() { 2 } else { 3 }, "{window:?}");
+        assert!(cut.topic_instances("a").is_empty());
+    }
+}

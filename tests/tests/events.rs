@@ -324,3 +324,28 @@ fn events_without_usable_metadata_keep_their_id_and_arguments() {
         out.findings
     );
 }
+
+#[test]
+fn a_bad_definition_is_passed_over_and_the_others_still_decode() {
+    let json = r#"{"version": 2, "components": {
+        "x": {"namespace": "bad"},
+        "1": {"namespace": "px4", "enums": {
+            "e_t": {"type": "int8_t", "is_bitfield": true, "entries": {
+                "1": {"description": "one"}, "two": {"description": "?"}}}},
+          "event_groups": {"default": {"events": {
+            "1": {"name": "no_message"},
+            "2": {"name": "fine", "message": "bits {1}", "arguments": [{"type": "e_t"}]}}}}}}}"#;
+    let metadata = Metadata::from_json(json.as_bytes()).unwrap();
+    assert_eq!(metadata.len(), 1);
+    let bytes = log_with(&[(px4(1), vec![], 0x66), (px4(2), vec![0xFF], 0x66)], None);
+    let log = ULog::parse(&bytes).unwrap();
+    let events = log.events(&EventOptions::default().metadata(metadata));
+    let texts: Vec<&str> = events.iter().map(|e| e.text.as_str()).collect();
+    // -1 as an int8_t bitfield: bit 0 is `one`, the others unknown, by the signed value.
+    assert_eq!(texts[0], "[Unknown event with ID 16777217]");
+    assert!(
+        texts[1].starts_with("bits one|(unknown: -1)|(unknown: -1)"),
+        "{}",
+        texts[1]
+    );
+}

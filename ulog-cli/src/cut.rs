@@ -3,7 +3,7 @@
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
-use ulog_core::read::{Header, Messages};
+use ulog_core::read::{Header, Messages, ReadErrorKind};
 use ulog_core::write::WriteErrorKind;
 use ulog_core::{Edit, Source};
 
@@ -146,7 +146,15 @@ pub fn write_edit(
             return Err(match e.kind() {
                 WriteErrorKind::Io(_) => Failure::Message(Status::Io, format!("{shown}: {e}")),
                 WriteErrorKind::TopicNotFound(_) => Failure::unknown_name(name, &e),
-                WriteErrorKind::Unreadable => Failure::new(Status::Refused, name, e.to_string()),
+                // Not a log (refused), or a read that failed (unreadable).
+                WriteErrorKind::Unreadable => {
+                    let read = std::error::Error::source(&e)
+                        .and_then(|s| s.downcast_ref::<ulog_core::ReadError>());
+                    match read.map(|r| r.kind()) {
+                        Some(ReadErrorKind::Io(_)) => Failure::unreadable(name, &e),
+                        _ => Failure::new(Status::Refused, name, e.to_string()),
+                    }
+                }
                 _ => Failure::about(name, &e),
             });
         }

@@ -131,7 +131,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         // A row of the event topic: the event it is, decoded.
         let event = match &m.message {
-            Message::Data { msg_id, .. } if current.get(msg_id) == event_topic.as_ref() => {
+            Message::Data { msg_id, .. }
+                if event_topic.is_some() && current.get(msg_id) == event_topic.as_ref() =>
+            {
                 event_row += 1;
                 events.events.get(event_row - 1)
             }

@@ -18,6 +18,9 @@ const XZ_MAGIC: &[u8] = &[0xFD, b'7', b'z', b'X', b'Z', 0x00];
 #[derive(Debug, Clone, Default)]
 pub struct Metadata {
     pub(crate) components: HashMap<u8, Component>,
+    /// Every enum by `namespace::name` (a later component's of the same name
+    /// replaces an earlier one's, as PX4's library reads them).
+    pub(crate) enums: HashMap<String, EnumDef>,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -25,7 +28,6 @@ pub(crate) struct Component {
     pub namespace: String,
     /// Groups in the file's order, each with its events.
     pub groups: Vec<(String, HashMap<u32, Definition>)>,
-    pub enums: HashMap<String, EnumDef>,
 }
 
 /// One event's definition.
@@ -154,9 +156,13 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// Reads the metadata's JSON. As PX4's library, an entry that is not as expected (a
+/// component id that is not a number, an event without a message, an enum entry
+/// whose value is not a number) is passed over, not the whole file: its events then
+/// show as undefined.
 fn parse(json: &Json) -> Result<Metadata, String> {
-    let version = json.get("version").and_then(Json::as_u64).unwrap_or(0);
-    if version < 1 {
+    let version = json.get("version").and_then(Json::as_f64).unwrap_or(0.0);
+    if version < 1.0 {
         return Err(format!("version {version} (1 or more expected)"));
     }
     let mut metadata = Metadata::default();
@@ -167,16 +173,14 @@ fn parse(json: &Json) -> Result<Metadata, String> {
         .as_object()
         .ok_or("`components` is not an object")?;
     for (id, c) in components {
-        let id: u8 = id
-            .parse()
-            .map_err(|_| format!("component id `{id}` is not 0..255"))?;
-        let namespace = c
-            .get("namespace")
-            .and_then(Json::as_str)
-            .ok_or_else(|| format!("component {id} has no namespace"))?
-            .to_owned();
+        let Ok(id) = id.trim().parse::<u8>() else {
+            continue;
+        };
+        let Some(namespace) = c.get("namespace").and_then(Json::as_str) else {
+            continue;
+        };
         let mut component = Component {
-            namespace,
+            namespace: namespace.to_owned(),
             ..Component::default()
         };
         if let Some(groups) = c.get("event_groups").and_then(Json::as_object) {
@@ -184,10 +188,9 @@ fn parse(json: &Json) -> Result<Metadata, String> {
                 let mut events = HashMap::new();
                 if let Some(list) = g.get("events").and_then(Json::as_object) {
                     for (sub, e) in list {
-                        let sub: u32 = sub
-                            .parse()
-                            .map_err(|_| format!("event id `{sub}` in {group} is not a number"))?;
-                        events.insert(sub, definition(e).map_err(|m| format!("event {sub}: {m}"))?);
+                        if let (Ok(sub), Some(def)) = (sub.trim().parse::<u32>(), definition(e)) {
+                            events.insert(sub, def);
+                        }
                     }
                 }
                 component.groups.push((group.clone(), events));
@@ -195,8 +198,9 @@ fn parse(json: &Json) -> Result<Metadata, String> {
         }
         if let Some(enums) = c.get("enums").and_then(Json::as_object) {
             for (name, e) in enums {
-                let def = enum_def(e).map_err(|m| format!("enum {name}: {m}"))?;
-                component.enums.insert(name.clone(), def);
+                if let Some(def) = enum_def(e) {
+                    metadata.enums.insert(format!("{namespace}::{name}"), def);
+                }
             }
         }
         metadata.components.insert(id, component);
@@ -204,53 +208,49 @@ fn parse(json: &Json) -> Result<Metadata, String> {
     Ok(metadata)
 }
 
-fn text(e: &Json, key: &str) -> Result<String, String> {
-    e.get(key)
-        .and_then(Json::as_str)
-        .map(str::to_owned)
-        .ok_or_else(|| format!("no `{key}` text"))
+fn text(e: &Json, key: &str) -> Option<String> {
+    e.get(key).and_then(Json::as_str).map(str::to_owned)
 }
 
-fn definition(e: &Json) -> Result<Definition, String> {
+fn definition(e: &Json) -> Option<Definition> {
     let mut arguments = Vec::new();
     if let Some(args) = e.get("arguments").and_then(Json::as_array) {
         for a in args {
             arguments.push(text(a, "type")?);
         }
     }
-    Ok(Definition {
+    Some(Definition {
         name: text(e, "name")?,
         message: text(e, "message")?,
-        description: e
-            .get("description")
-            .and_then(Json::as_str)
-            .map(str::to_owned),
+        description: text(e, "description"),
         arguments,
     })
 }
 
-fn enum_def(e: &Json) -> Result<EnumDef, String> {
+fn enum_def(e: &Json) -> Option<EnumDef> {
     let mut entries = Vec::new();
     if let Some(list) = e.get("entries").and_then(Json::as_object) {
         for (value, entry) in list {
-            let value: u64 = value
-                .parse()
-                .or_else(|_| value.parse::<i64>().map(|v| v as u64))
-                .map_err(|_| format!("entry `{value}` is not a number"))?;
-            entries.push((value, text(entry, "description")?));
+            let value = value.trim();
+            let value = match value.parse::<u64>() {
+                Ok(v) => v,
+                Err(_) => match value.parse::<i64>() {
+                    Ok(v) => v as u64,
+                    Err(_) => continue,
+                },
+            };
+            if let Some(d) = text(entry, "description") {
+                entries.push((value, d));
+            }
         }
     }
-    Ok(EnumDef {
+    Some(EnumDef {
         ty: text(e, "type")?,
         is_bitfield: e
             .get("is_bitfield")
             .and_then(Json::as_bool)
             .unwrap_or(false),
-        separator: e
-            .get("separator")
-            .and_then(Json::as_str)
-            .unwrap_or("|")
-            .to_owned(),
+        separator: text(e, "separator").unwrap_or_else(|| "|".to_owned()),
         entries,
     })
 }

@@ -345,14 +345,11 @@ fn decode(
         let en = if basic_size(ty).is_some() {
             None
         } else {
-            let (ns, name) = ty
-                .split_once("::")
-                .unwrap_or((component.namespace.as_str(), ty.as_str()));
-            let found = m
-                .components
-                .values()
-                .find(|c| c.namespace == ns)
-                .and_then(|c| c.enums.get(name));
+            let key = match ty.contains("::") {
+                true => ty.clone(),
+                false => format!("{}::{ty}", component.namespace),
+            };
+            let found = m.enums.get(&key);
             match found {
                 Some(e) => Some(e),
                 None => {

@@ -123,7 +123,7 @@ pub(crate) fn display(value: ArgValue, en: Option<&EnumDef>) -> Shown {
             }
             match en.entries.iter().find(|(e, _)| *e == bit) {
                 Some((_, d)) => out.push_str(d),
-                None => out.push_str(&format!("(unknown: {v})")),
+                None => out.push_str(&format!("(unknown: {value})")),
             }
             had = true;
         }

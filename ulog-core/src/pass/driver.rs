@@ -74,6 +74,10 @@ pub(crate) trait Visit {
     fn other(&mut self, _record: &Record, _payload: &[u8], _framer: &Framer) -> bool {
         true
     }
+
+    /// The end of a pass (one the visitor stopped too): framing as it stands there.
+    #[inline(always)]
+    fn end(&mut self, _framer: &Framer) {}
 }
 
 impl<F: FnMut(DataRecord<'_>) -> Hand> Visit for F {

@@ -237,6 +237,7 @@ where
             .map_err(in_file)?
         }
     }
+    f.end(&driver.framer);
     Ok(())
 }
 

@@ -166,8 +166,11 @@ impl<'f> Edit<'f> {
     /// start): until then what is kept is held.
     ///
     /// Errors: a topic of [`Edit::only`] or [`Edit::exclude`] that no format of the
-    /// log names ([`WriteErrorKind::TopicNotFound`], before anything is written; a
-    /// topic with a format but no subscription is in [`EditSummary::unlogged`]),
+    /// log's definitions section names ([`WriteErrorKind::TopicNotFound`], before
+    /// anything is written; a topic with a format but no subscription is in
+    /// [`EditSummary::unlogged`]; a format that comes after the definitions section,
+    /// which framing accepts and the spec does not, is kept or left out with its topic
+    /// but is not looked in for these names),
     /// input that is not a log ([`WriteErrorKind::Unreadable`], its error kept as the
     /// source), and failures to write.
     pub fn write<'s, W: Write>(
@@ -200,8 +203,7 @@ impl<'f> Edit<'f> {
         }
         let scan = scan.map_err(WriteError::unreadable)?;
         if let Some(h) = editor.held.take() {
-            let defs = h.defs.clone();
-            editor.write_held(h, defs.as_ref(), &scan.header)?;
+            editor.write_held(h, &scan.header)?;
         }
         let Editor {
             edit,
@@ -218,6 +220,8 @@ impl<'f> Edit<'f> {
             .filter(|n| !subscribed.contains(n.as_str()))
             .cloned()
             .collect();
+        summary.unlogged.sort();
+        summary.unlogged.dedup();
         summary.skipped = scan.findings;
         w.flush()?;
         Ok(summary)
@@ -285,8 +289,7 @@ impl<'f, W: Write> Editor<'f, W> {
             return Ok(());
         }
         if let Some(h) = self.held.take() {
-            let defs = h.defs.clone();
-            self.write_held(h, defs.as_ref(), header)?;
+            self.write_held(h, header)?;
         }
         Ok(())
     }
@@ -295,15 +298,9 @@ impl<'f, W: Write> Editor<'f, W> {
     /// initial parameters as at the start, flag bits without appended data), the
     /// parameters first set before the start, then the rest. First, the topics
     /// asked for are looked for among the formats of `defs`.
-    fn write_held(
-        &mut self,
-        mut h: Held,
-        defs: Option<&Definitions>,
-        header: &Header,
-    ) -> Result<(), WriteError> {
+    fn write_held(&mut self, mut h: Held, header: &Header) -> Result<(), WriteError> {
         let edit = &self.edit;
-        let empty = Definitions::new();
-        let defs = defs.unwrap_or(&empty);
+        let defs = h.defs.take().unwrap_or_else(Definitions::new);
         for name in edit.only.iter().flatten().chain(&edit.exclude) {
             if defs.formats_of(name).is_empty() {
                 // Sorted: suggestions as close as each other come in one order.
@@ -316,25 +313,7 @@ impl<'f, W: Write> Editor<'f, W> {
                 ));
             }
         }
-        // With a topic filter, the formats the kept topics use, nested ones included:
-        // with `only`, those of the named topics; with `exclude`, those of every
-        // other format (a format nested in an excluded topic stays: before the
-        // subscriptions are seen, it cannot be told from a topic's own).
-        let formats: Option<HashSet<String>> = match (&edit.only, edit.exclude.is_empty()) {
-            (None, true) => None,
-            (Some(only), _) => Some(
-                only.iter()
-                    .filter(|n| !edit.exclude.contains(n))
-                    .flat_map(|n| defs.formats_of(n))
-                    .collect(),
-            ),
-            (None, false) => Some(
-                defs.format_names()
-                    .filter(|n| !edit.exclude.iter().any(|x| x == n))
-                    .flat_map(|n| defs.formats_of(n))
-                    .collect(),
-            ),
-        };
+        let formats = kept_formats(edit, &defs);
         let timestamp = edit.header_timestamp.unwrap_or(header.timestamp);
         let mut bytes = MAGIC.to_vec();
         bytes.push(header.version);
@@ -354,12 +333,11 @@ impl<'f, W: Write> Editor<'f, W> {
                     payload[8] &= !1;
                     payload[16..40].fill(0);
                 }
-                b'F' => {
-                    let name = payload.split(|&b| b == b':').next().unwrap_or(&[]);
-                    let name = String::from_utf8_lossy(name);
-                    if formats.as_ref().is_some_and(|f| !f.contains(&*name)) {
-                        continue;
-                    }
+                b'F' if formats
+                    .as_ref()
+                    .is_some_and(|f| !f.contains(&format_name(payload))) =>
+                {
+                    continue;
                 }
                 b'P' if i < definitions => {
                     let name = param_name(payload);
@@ -421,10 +399,12 @@ impl<'f, W: Write> Editor<'f, W> {
         }
         let in_definitions = framer.in_definitions;
         if let Some(h) = &mut self.held {
-            if in_definitions {
+            // The definitions as they stand where they end (one copy: a copy held
+            // while framing adds formats would make it copy its table at each one),
+            // and again at a format after them (framing accepts one).
+            if !in_definitions && (h.definitions.is_none() || r.msg_type == b'F') {
+                h.definitions.get_or_insert(h.messages.len());
                 h.defs = Some(framer.defs.clone());
-            } else if h.definitions.is_none() {
-                h.definitions = Some(h.messages.len());
             }
         }
         self.release(in_definitions, &header)?;
@@ -473,6 +453,10 @@ impl<'f, W: Write> Editor<'f, W> {
             Message::Info(kv) | Message::MultiInfo { kv, .. } => {
                 !self.edit.drop_info.iter().any(|k| *k == kv.name())
             }
+            // A format after the definitions, once what was held is written: kept by
+            // the filter as it stands with it.
+            Message::Format(_) if self.held.is_none() => kept_formats(&self.edit, &framer.defs)
+                .map_or(true, |f| f.contains(&format_name(payload))),
             Message::Format(_) | Message::DefaultParam { .. } | Message::Unknown { .. } => true,
             Message::Data { .. } => false,
         };
@@ -499,9 +483,8 @@ impl<'f, W: Write> Editor<'f, W> {
     #[inline(never)]
     fn write_data(&mut self, r: DataRecord<'_>) -> Result<(), WriteError> {
         if let Some(h) = self.held.take() {
-            let defs = h.defs.clone();
             let header = self.header;
-            self.write_held(h, defs.as_ref(), &header)?;
+            self.write_held(h, &header)?;
         }
         self.summary.rows += 1;
         self.summary.messages += 1;
@@ -550,6 +533,14 @@ impl<W: Write> Visit for Editor<'_, W> {
         }
     }
 
+    fn end(&mut self, framer: &Framer) {
+        // A log that ends in its definitions (or still holding): the formats as they
+        // stand at the end.
+        if let Some(h) = &mut self.held {
+            h.defs = Some(framer.defs.clone());
+        }
+    }
+
     fn other(&mut self, record: &Record, payload: &[u8], framer: &Framer) -> bool {
         match self.other_message(record, payload, framer) {
             Ok(()) => true,
@@ -559,6 +550,34 @@ impl<W: Write> Visit for Editor<'_, W> {
             }
         }
     }
+}
+
+/// With a topic filter, the formats the kept topics use, nested ones included: with
+/// `only`, those of the named topics; with `exclude`, those of every other format (a
+/// format nested in an excluded topic stays: formats come before the subscriptions
+/// that would tell it from a topic's own). `None`: every format.
+fn kept_formats(edit: &Edit<'_>, defs: &Definitions) -> Option<HashSet<String>> {
+    match (&edit.only, edit.exclude.is_empty()) {
+        (None, true) => None,
+        (Some(only), _) => Some(
+            only.iter()
+                .filter(|n| !edit.exclude.contains(n))
+                .flat_map(|n| defs.formats_of(n))
+                .collect(),
+        ),
+        (None, false) => Some(
+            defs.format_names()
+                .filter(|n| !edit.exclude.iter().any(|x| x == n))
+                .flat_map(|n| defs.formats_of(n))
+                .collect(),
+        ),
+    }
+}
+
+/// The name a format message defines.
+fn format_name(payload: &[u8]) -> String {
+    let name = payload.split(|&b| b == b':').next().unwrap_or(&[]);
+    String::from_utf8_lossy(name).into_owned()
 }
 
 /// The name of a parameter message's key (`type name`), as the reader gives it.
