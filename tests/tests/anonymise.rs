@@ -64,6 +64,10 @@ fn distance(a: (f64, f64), b: (f64, f64)) -> f64 {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus (../shared/corpus): its logs with GPS and a sys_uuid"
+)]
 fn anonymised_logs_hold_no_identity_and_no_original_position_and_keep_distances() {
     let mut positions = 0usize;
     let mut uuids = 0;

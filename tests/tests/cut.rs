@@ -169,7 +169,13 @@ fn cuts_of_every_corpus_log_keep_the_window_and_nothing_else() {
             total += check(&what, &log, &out, window);
         }
     }
-    assert!(total > 100_000, "{total} rows kept in all");
+    // The repository's own five logs are small.
+    let least = if ulog_tests::FULL_CORPUS {
+        100_000
+    } else {
+        1_000
+    };
+    assert!(total > least, "{total} rows kept in all");
 }
 
 #[test]

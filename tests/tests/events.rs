@@ -10,6 +10,10 @@ use ulog_core::ULog;
 use ulog_tests::{corpus_files, stem};
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus (../shared/corpus): its logs with event metadata"
+)]
 fn every_event_of_the_corpus_logs_with_metadata_is_decoded() {
     let mut logs = 0;
     for path in corpus_files() {

@@ -16,8 +16,8 @@ fn has_event_metadata(bytes: &[u8]) -> bool {
 
 #[test]
 #[cfg_attr(
-    not(pyulog),
-    ignore = "needs pyulog: pip install pyulog==1.3.0, then touch ulog-cli/build.rs"
+    not(all(pyulog, full_corpus)),
+    ignore = "needs pyulog (pip install pyulog==1.3.0) and the full corpus (../shared/corpus): its logs with event metadata"
 )]
 fn messages_equal_ulog_messages_on_logs_with_events() {
     let corpus = common::corpus();
@@ -134,6 +134,10 @@ fn a_log_without_event_metadata_prints_events_by_id_and_says_why_once() {
 }
 
 #[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus (../shared/corpus): its logs with event metadata"
+)]
 fn dump_check_and_the_parquet_metadata_show_the_events() {
     let corpus = common::corpus();
     let mut seen = 0;
