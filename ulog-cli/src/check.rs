@@ -174,8 +174,9 @@ pub fn examine(log: &ULog<'_>) -> Vec<Problem> {
 }
 
 /// PX4 events: what could not be decoded (metadata missing is a note, bad metadata
-/// and undefined events are warnings), and the events of the `default` group logged
-/// at error level or worse, as notes with their text.
+/// and undefined events are warnings), and the events shown as messages
+/// ([`Event::is_message`](ulog_core::events::Event::is_message)) logged at error level
+/// or worse, as notes with their text.
 fn events_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
     let events = log.events(&EventOptions::default());
     for f in &events.findings {
@@ -187,16 +188,8 @@ fn events_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
         };
         out.push(Problem::new(severity, kind, f.to_string()));
     }
-    let offsets = log
-        .topic("event", 0)
-        .map(|t| t.message_offsets().to_vec())
-        .unwrap_or_default();
-    // The `default` group: what is shown as messages (arming checks and health
-    // reports repeat as the vehicle checks itself).
-    let shown = |e: &&ulog_core::events::Event| {
-        e.level <= 3 && e.group.as_deref().map_or(true, |g| g == "default")
-    };
-    for e in events.iter().filter(shown) {
+    let topic = log.topic("event", 0).ok();
+    for e in events.iter().filter(|e| e.is_message() && e.level <= 3) {
         let mut p = Problem::new(
             Severity::Note,
             "event_error",
@@ -207,7 +200,7 @@ fn events_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
                 e.text
             ),
         );
-        p.offset = offsets.get(e.row).copied();
+        p.offset = topic.as_ref().and_then(|t| t.message_offsets().get(e.row));
         out.push(p);
     }
 }

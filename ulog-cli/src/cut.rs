@@ -3,6 +3,7 @@
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
+use ulog_core::format::definitions::HEADER_SIZE;
 use ulog_core::read::{Header, Messages, ReadErrorKind};
 use ulog_core::write::WriteErrorKind;
 use ulog_core::{Edit, Source};
@@ -96,13 +97,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 /// The header of the log at `path` (named `name`), from its first bytes.
 fn header(name: &str, path: &Path) -> Result<Header, Failure> {
-    let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(name, io_text(&e)))?;
-    if meta.is_dir() {
-        return Err(Failure::unreadable(name, "is a directory"));
-    }
+    input::not_a_directory(path)?;
     let mut head = Vec::new();
     std::fs::File::open(path)
-        .and_then(|f| f.take(HEADER_SIZE).read_to_end(&mut head))
+        .and_then(|f| f.take(HEADER_SIZE as u64).read_to_end(&mut head))
         .map_err(|e| Failure::unreadable(name, io_text(&e)))?;
     let mut framing = Messages::new(&head);
     let first = framing.next();
@@ -116,9 +114,6 @@ fn header(name: &str, path: &Path) -> Result<Header, Failure> {
         )),
     }
 }
-
-/// The size of a log's header.
-const HEADER_SIZE: u64 = 16;
 
 /// Writes `edit` of `log` (the file `input`, named `name`) to `output`: under a
 /// temporary name, renamed when done; never over the input. Says what was written,

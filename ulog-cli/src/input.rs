@@ -12,12 +12,18 @@ use crate::failure::{io_text, Failure, Status};
 /// that changes meanwhile cannot kill the process); a missing, unreadable or directory
 /// path is a failure.
 pub fn open(path: &Path) -> Result<LogFile, Failure> {
+    not_a_directory(path)?;
+    LogFile::open(path).map_err(|e| Failure::unreadable(path.display(), error_text(&e)))
+}
+
+/// A missing or unreadable path, or a directory, is a failure about `path`.
+pub fn not_a_directory(path: &Path) -> Result<(), Failure> {
     let shown = path.display();
     let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
     if meta.is_dir() {
         return Err(Failure::unreadable(&shown, "is a directory"));
     }
-    LogFile::open(path).map_err(|e| Failure::unreadable(&shown, error_text(&e)))
+    Ok(())
 }
 
 /// Parses `bytes`; a file that is not a ULog log, or one the spec says to refuse, is a

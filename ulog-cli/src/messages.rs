@@ -72,11 +72,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .findings
             .iter()
             .any(|f| matches!(f, EventFinding::NoMetadata | EventFinding::BadMetadata(_)));
-        for e in events.iter() {
-            let shown = e.level < 8 && e.group.as_deref().map_or(true, |g| g == "default");
-            if shown {
-                lines.push((e.timestamp, e.level_name(), e.text.clone()));
-            }
+        for e in events.iter().filter(|e| e.is_message()) {
+            lines.push((e.timestamp, e.level_name(), e.text.clone()));
         }
     }
     for m in log.logged_messages() {

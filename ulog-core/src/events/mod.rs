@@ -104,6 +104,14 @@ pub struct Event {
 }
 
 impl Event {
+    /// Whether PX4's tools show it as a message: an event of the `default` group (or
+    /// one the metadata does not define) below the protocol level, as pyulog's
+    /// `ulog_messages` and ground stations show them (arming checks and health
+    /// reports are shown elsewhere, and repeat as the vehicle checks itself).
+    pub fn is_message(&self) -> bool {
+        self.level < 8 && self.group.as_deref().map_or(true, |g| g == "default")
+    }
+
     /// The level's name as pyulog prints it (`INFO`, `WARNING`, …).
     pub fn level_name(&self) -> &'static str {
         level_name(self.level)

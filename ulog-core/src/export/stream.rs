@@ -228,7 +228,8 @@ pub(super) fn export(
             if matches!(slots[i], Slot::Unseen) {
                 clocks[i] = Unwrapper::new(r.topic.timestamp_field());
                 slots[i] = open(r.topic, dir, options, &mut skipped);
-                if r.topic.name() == "event" && r.topic.multi_id() == 0 {
+                if cfg!(feature = "events") && r.topic.name() == "event" && r.topic.multi_id() == 0
+                {
                     event_topic = Some(i);
                 }
             }

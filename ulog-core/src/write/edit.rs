@@ -190,7 +190,6 @@ impl<'f> Edit<'f> {
             topics: Vec::new(),
             buffer: Vec::new(),
             kept_ids: HashSet::new(),
-            subscribed: HashSet::new(),
             error: None,
             header: Header {
                 version: 1,
@@ -209,9 +208,9 @@ impl<'f> Edit<'f> {
             edit,
             mut w,
             mut summary,
-            subscribed,
             ..
         } = editor;
+        let subscribed: HashSet<&str> = scan.topics.iter().map(|s| s.name()).collect();
         summary.unlogged = edit
             .only
             .iter()
@@ -247,7 +246,6 @@ struct Editor<'f, W: Write> {
     buffer: Vec<u8>,
     /// The msg_ids whose current subscription is kept.
     kept_ids: HashSet<u16>,
-    subscribed: HashSet<String>,
     /// What stopped the pass.
     error: Option<WriteError>,
     /// The input's header (once framed).
@@ -284,12 +282,13 @@ impl<'f, W: Write> Editor<'f, W> {
 
     /// Writes what is held once it may be: after the definitions, once the log's
     /// time has reached the start.
-    fn release(&mut self, in_definitions: bool, header: &Header) -> Result<(), WriteError> {
+    fn release(&mut self, in_definitions: bool) -> Result<(), WriteError> {
         if in_definitions || self.last < self.start {
             return Ok(());
         }
         if let Some(h) = self.held.take() {
-            self.write_held(h, header)?;
+            let header = self.header;
+            self.write_held(h, &header)?;
         }
         Ok(())
     }
@@ -407,7 +406,7 @@ impl<'f, W: Write> Editor<'f, W> {
                 h.defs = Some(framer.defs.clone());
             }
         }
-        self.release(in_definitions, &header)?;
+        self.release(in_definitions)?;
         let last = self.last;
         let message = Message::from_record(r, payload, framer.flag_bits);
         let keep = match &message {
@@ -435,11 +434,6 @@ impl<'f, W: Write> Editor<'f, W> {
                     .sub_index(*msg_id)
                     .and_then(|i| framer.defs.subscriptions().get(i as usize));
                 let keep = sub.is_some_and(|s| self.kept(s.name()));
-                if let Some(s) = sub {
-                    if !self.subscribed.contains(s.name()) {
-                        self.subscribed.insert(s.name().to_owned());
-                    }
-                }
                 if keep {
                     self.kept_ids.insert(*msg_id);
                 } else {
