@@ -420,6 +420,12 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
                           "--start", f"{duration * 0.45:.3f}", "--end", f"{duration * 0.55:.3f}"],
                          out_dir=True, baseline=False, versus="ours (ulog info)",
                          note="all topics, 10 % of the time; ratio against ulog info"))
+    # MCAP (ROS 2 CDR, zstd chunks): at least as fast as the CSV export.
+    if cli_has(b["ulog"], "mcap"):
+        P.append(Program("MCAP export", "ours (ulog mcap)",
+                         [b["ulog"], "mcap", path, "-o", "{out}/log.mcap"],
+                         out_dir=True, baseline=False,
+                         note="CDR messages, ros2msg schemas, 1 MiB zstd chunks"))
     # Parquet export: run when the CLI was built with its `parquet` subcommand.
     if parquet:
         P.append(Program("Parquet export", "ours (ulog parquet)",
@@ -608,6 +614,7 @@ def targets(results, size):
           t("ours (ulog info)"), 1.0)
     ratio("events (ulog messages) ≤ 0.1 × pyulog ulog_messages", t("ours (ulog messages)"),
           t("pyulog 1.3 ulog_messages"), 0.1)
+    ratio("MCAP export ≤ CSV export (ulog csv)", t("ours (ulog mcap)"), t("ours (ulog csv)"), 1.0)
     return out
 
 

@@ -7,7 +7,10 @@
 // `ULOG_TESTS_CORPUS`; `cfg(full_corpus)` is set unless it is the repository's own
 // (tests that need a log only the full corpus has are `ignore`d then). `cfg(pyulog)`
 // is set where `python3` can import pyulog (tests that run it are `ignore`d
-// otherwise; install it, then touch the build script to rebuild them). With
+// otherwise; install it, then touch the build script to rebuild them),
+// `cfg(simplekml)` where it can import simplekml too (pyulog's `ulog2kml`), and
+// `cfg(mcap_readers)` where it can import `mcap`, `mcap_ros2`, `rosbags` and
+// `jsonschema`. With
 // `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
 // the build instead, so that no test is ignored there.
 
@@ -15,7 +18,7 @@
 /// and `own` are the two corpus folders relative to the package. Returns the corpus.
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
-    println!("cargo::rustc-check-cfg=cfg(full_corpus, pyulog)");
+    println!("cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers)");
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
     println!("cargo::rerun-if-env-changed=ULOG_CORPUS");
@@ -42,15 +45,29 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     }
     println!("cargo::rustc-env=ULOG_TESTS_CORPUS={}", corpus.display());
     println!("cargo::rerun-if-changed={}", corpus.join("files").display());
-    // pyulog, the reference reader, for the tests that run it.
-    let pyulog = std::process::Command::new("python3")
-        .args(["-c", "import pyulog"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if pyulog {
-        println!("cargo::rustc-cfg=pyulog");
-    } else if require {
-        panic!("ULOG_REQUIRE_ALL_TESTS is set but python3 cannot import pyulog");
+    // The Python packages the tests check our output with: pyulog, the reference
+    // reader; simplekml, which pyulog's `ulog2kml` writes its KML with; Foxglove's
+    // MCAP readers (`mcap`, `mcap-ros2-support`), `rosbags` and `jsonschema`, which read
+    // and validate the MCAP files and ROS 2 bags we write.
+    let packages = [
+        ("pyulog", "pyulog", "pyulog"),
+        ("simplekml", "pyulog, simplekml", "simplekml"),
+        (
+            "mcap_readers",
+            "mcap, mcap_ros2, rosbags, jsonschema",
+            "mcap, mcap-ros2-support, rosbags or jsonschema",
+        ),
+    ];
+    for (cfg, imports, what) in packages {
+        let found = std::process::Command::new("python3")
+            .args(["-c", &format!("import {imports}")])
+            .output()
+            .is_ok_and(|o| o.status.success());
+        if found {
+            println!("cargo::rustc-cfg={cfg}");
+        } else if require {
+            panic!("ULOG_REQUIRE_ALL_TESTS is set but python3 cannot import {what}");
+        }
     }
     corpus
 }

@@ -6,6 +6,7 @@ use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 
 use ulog_core::format::{BasicType, LayoutField, LayoutType};
+use ulog_core::read::UtcTime;
 use ulog_core::{LookupError, Topic};
 
 use crate::failure::{io_text, stdout_err, Failure};
@@ -56,6 +57,11 @@ pub struct Args {
     /// absent: to the end).
     #[arg(long = "time-end", visible_alias = "time_e", value_name = "S")]
     time_end: Option<f64>,
+    /// Add a column `timestamp_utc` after `timestamp`: the row's time in UTC (RFC 3339
+    /// with microseconds), from the log's GPS time or its `boot_time_utc_us` (`ulog
+    /// info` says which; a log with neither is an error).
+    #[arg(long)]
+    utc: bool,
     /// Files written at the same time (default: the number of CPUs).
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<NonZeroUsize>,
@@ -66,6 +72,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = input::open(&args.file)?;
     let threads = input::threads(args.jobs);
     let log = input::parse(&name, file.bytes())?;
+    let utc = match args.utc {
+        true => Some(input::utc_clock(&name, &log)?.boot_us()),
+        false => None,
+    };
 
     let mut topics: Vec<Topic<'_, '_>> = log.topics().filter(|t| !t.is_empty()).collect();
     if let Some(list) = &args.messages {
@@ -85,7 +95,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             topic.name().replace('/', "_"),
             topic.multi_id()
         );
-        let columns = match columns(&topic) {
+        let columns = match columns(&topic, utc) {
             Ok(c) => c,
             Err(e) => {
                 out.flush().map_err(stdout_err)?;
@@ -183,6 +193,9 @@ enum Cell {
     F64(usize),
     /// `char[n]`: the bytes up to the first NUL.
     Text(usize, usize),
+    /// The UTC time of the `uint64_t` timestamp at the offset, with the UTC time at
+    /// boot in microseconds.
+    Utc(usize, i64),
 }
 
 impl Cell {
@@ -201,7 +214,9 @@ struct Column {
     cell: Cell,
 }
 
-fn columns(topic: &Topic<'_, '_>) -> Result<Vec<Column>, LookupError> {
+/// The columns of `topic`, with `timestamp_utc` after `timestamp` when the UTC time at
+/// boot is given (and the timestamp is a `uint64_t`: version 0's narrow ones wrap).
+fn columns(topic: &Topic<'_, '_>, utc: Option<i64>) -> Result<Vec<Column>, LookupError> {
     let mut values = Vec::new();
     pyulog_fields(topic.layout()?.fields(), "", 0, &mut values);
     // ulog2csv's columns: `_padding` fields left out (only the topic's own can be
@@ -251,6 +266,17 @@ fn columns(topic: &Topic<'_, '_>) -> Result<Vec<Column>, LookupError> {
     if let Some(i) = cols.iter().position(|c| c.name == "timestamp") {
         let ts = cols.remove(i);
         cols.insert(0, ts);
+    }
+    if let (Some(boot), Some(Cell::U64(off))) = (utc, cols.first().map(|c| c.cell)) {
+        if cols[0].name == "timestamp" {
+            cols.insert(
+                1,
+                Column {
+                    name: "timestamp_utc".to_owned(),
+                    cell: Cell::Utc(off, boot),
+                },
+            );
+        }
     }
     Ok(cols)
 }
@@ -549,6 +575,15 @@ fn write_cell(buf: &mut [u8], pos: usize, cell: Cell, p: &[u8], last: &mut Last)
             }
             return end;
         }
+        Cell::Utc(off, boot) => le(p, off).map_or(0, |b| {
+            let t = u64::from_le_bytes(b).min(i64::MAX as u64) as i64;
+            let mut out: &mut [u8] = window(buf, pos);
+            let room = out.len();
+            // 27 bytes for years 0 to 9999, at most 30 for any i64: within the 32 of
+            // the window.
+            let _ = write!(out, "{}", UtcTime(boot.saturating_add(t)));
+            room - out.len()
+        }),
     };
     pos + n
 }

@@ -96,7 +96,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// The header of the log at `path` (named `name`), from its first bytes.
-fn header(name: &str, path: &Path) -> Result<Header, Failure> {
+pub fn header(name: &str, path: &Path) -> Result<Header, Failure> {
     input::not_a_directory(path)?;
     let mut head = Vec::new();
     std::fs::File::open(path)
@@ -175,11 +175,13 @@ pub fn write_edit(
             "ulog: {name}: topic `{topic}` has a format but no data in the log"
         );
     }
-    println!(
+    writeln!(
+        std::io::stdout(),
         "Writing {shown} ({} data messages, {} left out)",
-        summary.rows, summary.rows_left_out
-    );
-    Ok(())
+        summary.rows,
+        summary.rows_left_out
+    )
+    .map_err(crate::failure::stdout_err)
 }
 
 /// Whether two paths name the same existing file.

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use serde_json::{json, Map, Value as Json};
 use ulog_core::events::EventOptions;
-use ulog_core::read::{KeyValue, MessageAt};
+use ulog_core::read::{KeyValue, MessageAt, Unwrapper, UtcClock, UtcTime};
+use ulog_core::units::unit_of;
 use ulog_core::{FieldReader, Finding, Message, ULog};
 
 use crate::describe::{kind_name, type_name, value_json};
@@ -24,11 +25,13 @@ and by type:
   F  format (the definition text)
   I  key, name, value            M  key, name, value, continued
   P  key, name, value            Q  key, name, value, default_types
-  A  msg_id, multi_id, topic     R  msg_id
+  A  msg_id, multi_id, topic, units {column: unit} (the columns whose names say
+     their unit, as ulog_core::units reads them)   R  msg_id
   D  msg_id, topic, multi_id, fields {column: value} (pyulog's column names, in
      order) or, when it cannot be decoded, size and error; rows of the PX4 event
-     topic also event {id, name, group, level, level_name, text}
-  L, C  level (0-7 as a number), level_name, tag (C only), timestamp, text
+     topic also event {id, name, group, level, level_name, text}; with --utc, utc
+  L, C  level (0-7 as a number), level_name, tag (C only), timestamp, text; with
+     --utc, utc
   S  (nothing else)              O  duration_ms
   ?  msg_type (the byte), size
 Findings of the reader appear where they start, as objects with
@@ -38,7 +41,9 @@ Findings of the reader appear where they start, as objects with
 /// formats, information, parameters, subscriptions, data (decoded, field by field),
 /// logged strings, syncs, dropouts and unknown types, with what the reader found
 /// (damage, skipped bytes) where it starts. Rows of the PX4 `event` topic are
-/// followed by the event they hold, decoded (`=> event LEVEL: text`).
+/// followed by the event they hold, decoded (`=> event LEVEL: text`). Values whose
+/// field name says their unit are followed by it (`vx=0.25 m/s`); with `--utc`, data
+/// rows and logged strings also show their time in UTC.
 #[derive(Debug, clap::Args)]
 #[command(
     about = "Every message in file order, with its byte offset",
@@ -58,6 +63,10 @@ pub struct Args {
     /// Leave out data messages (show the definitions and the other messages only).
     #[arg(long)]
     no_data: bool,
+    /// Also show each data row's and logged string's time in UTC, from the log's GPS
+    /// time or its `boot_time_utc_us` (`ulog info` says which).
+    #[arg(long)]
+    utc: bool,
 }
 
 /// Decoding state of one subscription: topic name, instance, column readers (or why
@@ -66,7 +75,20 @@ struct Decoder {
     name: String,
     multi_id: u8,
     columns: Result<Vec<FieldReader>, String>,
+    /// The unit of each column, where its name says it.
+    units: Vec<Option<&'static str>>,
+    /// Reads the timestamps of the payloads, in order (`--utc`; version 0's narrow
+    /// timestamps wrap).
+    timestamps: Unwrapper,
     sizes: (usize, usize),
+}
+
+/// What every message's line needs besides the message.
+struct Context<'l, 'a> {
+    log: &'l ULog<'a>,
+    current: HashMap<u16, usize>,
+    decoders: Vec<Option<Decoder>>,
+    utc: Option<UtcClock>,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
@@ -78,9 +100,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(list) => Some(input::topic_list(&name, &log, list)?),
         None => None,
     };
+    let utc = match args.utc {
+        true => Some(input::utc_clock(&name, &log)?),
+        false => None,
+    };
     // Subscriptions the reader kept, by the offset of their `A` message.
-    let mut decoders: Vec<Option<Decoder>> = (0..log.topics().count()).map(|_| None).collect();
-    let mut current: HashMap<u16, usize> = HashMap::new();
+    let mut cx = Context {
+        log: &log,
+        current: HashMap::new(),
+        decoders: (0..log.topics().count()).map(|_| None).collect(),
+        utc,
+    };
 
     let mut findings: Vec<&Finding> = log.findings().iter().collect();
     findings.sort_by_key(|f| f.offset);
@@ -110,8 +140,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         match &m.message {
             Message::Subscribe { msg_id, .. } | Message::Unsubscribe { msg_id } => {
                 match messages.subscription(*msg_id) {
-                    Some(s) => current.insert(*msg_id, s.index()),
-                    None => current.remove(msg_id),
+                    Some(s) => cx.current.insert(*msg_id, s.index()),
+                    None => cx.current.remove(msg_id),
                 };
             }
             _ => {}
@@ -121,7 +151,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 continue;
             }
             if let Some(w) = &wanted {
-                let Some(&i) = current.get(msg_id) else {
+                let Some(&i) = cx.current.get(msg_id) else {
                     continue;
                 };
                 if !w.contains(&log.topic_at(i).name()) {
@@ -132,7 +162,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         // A row of the event topic: the event it is, decoded.
         let event = match &m.message {
             Message::Data { msg_id, .. }
-                if event_topic.is_some() && current.get(msg_id) == event_topic.as_ref() =>
+                if event_topic.is_some() && cx.current.get(msg_id) == event_topic.as_ref() =>
             {
                 event_row += 1;
                 events.events.get(event_row - 1)
@@ -141,7 +171,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         };
         line.clear();
         if args.json {
-            let mut j = message_json(&m, &log, &current, &mut decoders);
+            let mut j = message_json(&m, &mut cx);
             if let (Some(e), Json::Object(o)) = (event, &mut j) {
                 o.insert(
                     "event".into(),
@@ -151,7 +181,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             }
             line.push_str(&j.to_string());
         } else {
-            message_text(&mut line, &m, &log, &current, &mut decoders);
+            message_text(&mut line, &m, &mut cx);
             if let Some(e) = event {
                 line.push_str(&format!(" => event {}: {}", e.level_name(), e.text));
             }
@@ -174,26 +204,40 @@ fn write_finding(out: &mut impl Write, f: &Finding, json: bool) -> io::Result<()
     }
 }
 
-fn decoder<'d>(
-    log: &ULog<'_>,
-    current: &HashMap<u16, usize>,
-    decoders: &'d mut [Option<Decoder>],
-    msg_id: u16,
-) -> Option<&'d mut Decoder> {
-    let &i = current.get(&msg_id)?;
-    Some(decoders[i].get_or_insert_with(|| {
-        let t = log.topic_at(i);
-        let sizes = t
-            .layout()
-            .map(|l| (l.size(), l.min_size()))
-            .unwrap_or((0, 0));
-        Decoder {
-            name: t.name().to_owned(),
-            multi_id: t.multi_id(),
-            columns: t.fields().map_err(|e| e.to_string()),
-            sizes,
-        }
-    }))
+impl Context<'_, '_> {
+    /// The decoder of the topic instance `msg_id` is subscribed to now.
+    fn decoder(&mut self, msg_id: u16) -> Option<&mut Decoder> {
+        let &i = self.current.get(&msg_id)?;
+        let log = self.log;
+        Some(self.decoders[i].get_or_insert_with(|| {
+            let t = log.topic_at(i);
+            let sizes = t
+                .layout()
+                .map(|l| (l.size(), l.min_size()))
+                .unwrap_or((0, 0));
+            let columns = t.fields().map_err(|e| e.to_string());
+            let units = match &columns {
+                Ok(cols) => cols.iter().map(|c| unit_of(t.name(), c.path())).collect(),
+                Err(_) => Vec::new(),
+            };
+            Decoder {
+                name: t.name().to_owned(),
+                multi_id: t.multi_id(),
+                columns,
+                units,
+                timestamps: Unwrapper::new(t.timestamp_field()),
+                sizes,
+            }
+        }))
+    }
+
+    /// The UTC time of the next data payload of `msg_id` (`--utc`), if it has a
+    /// timestamp. Called for each data message of the topic, in file order.
+    fn payload_utc(&mut self, msg_id: u16, payload: &[u8]) -> Option<UtcTime> {
+        let clock = self.utc.clone()?;
+        let t = self.decoder(msg_id)?.timestamps.push(payload)?;
+        Some(clock.at(t))
+    }
 }
 
 fn kv_text(line: &mut String, kv: &KeyValue<'_>) {
@@ -207,13 +251,7 @@ fn kv_text(line: &mut String, kv: &KeyValue<'_>) {
     }
 }
 
-fn message_text(
-    line: &mut String,
-    m: &MessageAt<'_>,
-    log: &ULog<'_>,
-    current: &HashMap<u16, usize>,
-    decoders: &mut [Option<Decoder>],
-) {
+fn message_text(line: &mut String, m: &MessageAt<'_>, cx: &mut Context<'_, '_>) {
     use std::fmt::Write as _;
     let letter = match &m.message {
         Message::Unknown { .. } => '?',
@@ -252,48 +290,57 @@ fn message_text(
         Message::Unsubscribe { msg_id } => {
             let _ = write!(line, "msg_id {msg_id}");
         }
-        Message::Data { msg_id, payload } => match decoder(log, current, decoders, *msg_id) {
-            None => {
-                let _ = write!(
-                    line,
-                    "msg_id {msg_id}: no subscription, {} bytes",
-                    payload.len()
-                );
-            }
-            Some(d) => {
-                let _ = write!(line, "{}({}):", d.name, d.multi_id);
-                match (&d.columns, payload.len()) {
-                    (Err(e), n) => {
-                        let _ = write!(line, " {n} bytes, not decoded: {e}");
-                    }
-                    (Ok(_), n) if n != d.sizes.0 && n != d.sizes.1 => {
-                        let _ = write!(line, " {n} bytes, not decoded: expected {}", d.sizes.0);
-                    }
-                    (Ok(cols), _) => {
-                        for c in cols {
-                            match c.read(payload) {
-                                Some(v) => {
-                                    let _ = write!(line, " {}={}", c.path(), value_text(&v));
+        Message::Data { msg_id, payload } => {
+            match (cx.payload_utc(*msg_id, payload), cx.decoder(*msg_id)) {
+                (_, None) => {
+                    let _ = write!(
+                        line,
+                        "msg_id {msg_id}: no subscription, {} bytes",
+                        payload.len()
+                    );
+                }
+                (utc, Some(d)) => {
+                    let _ = write!(line, "{}({}):", d.name, d.multi_id);
+                    match (&d.columns, payload.len()) {
+                        (Err(e), n) => {
+                            let _ = write!(line, " {n} bytes, not decoded: {e}");
+                        }
+                        (Ok(_), n) if n != d.sizes.0 && n != d.sizes.1 => {
+                            let _ = write!(line, " {n} bytes, not decoded: expected {}", d.sizes.0);
+                        }
+                        (Ok(cols), _) => {
+                            for (c, unit) in cols.iter().zip(&d.units) {
+                                match c.read(payload) {
+                                    Some(v) => {
+                                        let _ = write!(line, " {}={}", c.path(), value_text(&v));
+                                        if let Some(u) = unit {
+                                            let _ = write!(line, " {u}");
+                                        }
+                                    }
+                                    None => {
+                                        let _ = write!(line, " {}=?", c.path());
+                                    }
                                 }
-                                None => {
-                                    let _ = write!(line, " {}=?", c.path());
-                                }
+                            }
+                            if let Some(t) = utc {
+                                let _ = write!(line, " utc={t}");
                             }
                         }
                     }
                 }
             }
-        },
+        }
         Message::Log(l) => {
             let level = l.level().map_or("UNKNOWN", |v| v.name());
-            match l.tag {
-                Some(tag) => {
-                    let _ = write!(line, "{level} tag {tag} at {} us: {}", l.timestamp, l.text);
-                }
-                None => {
-                    let _ = write!(line, "{level} at {} us: {}", l.timestamp, l.text);
-                }
+            let _ = write!(line, "{level} ");
+            if let Some(tag) = l.tag {
+                let _ = write!(line, "tag {tag} ");
             }
+            let _ = write!(line, "at {} us", l.timestamp);
+            if let Some(clock) = &cx.utc {
+                let _ = write!(line, " ({})", clock.at(l.timestamp));
+            }
+            let _ = write!(line, ": {}", l.text);
         }
         Message::Sync(_) => line.push_str("sync"),
         Message::Dropout { duration_ms } => {
@@ -320,12 +367,7 @@ fn kv_json(o: &mut Map<String, Json>, kv: &KeyValue<'_>) {
     o.insert("value".into(), value_json(&kv.value()));
 }
 
-fn message_json(
-    m: &MessageAt<'_>,
-    log: &ULog<'_>,
-    current: &HashMap<u16, usize>,
-    decoders: &mut [Option<Decoder>],
-) -> Json {
+fn message_json(m: &MessageAt<'_>, cx: &mut Context<'_, '_>) -> Json {
     let mut o = Map::new();
     o.insert("offset".into(), Json::from(m.offset));
     let letter = match &m.message {
@@ -365,13 +407,27 @@ fn message_json(
                 "topic".into(),
                 Json::String(name.to_string_lossy().into_owned()),
             );
+            if let Some(d) = cx.decoder(*msg_id) {
+                let units: Map<String, Json> = match &d.columns {
+                    Ok(cols) => cols
+                        .iter()
+                        .zip(&d.units)
+                        .filter_map(|(c, u)| {
+                            Some((c.path().to_owned(), Json::from(u.as_ref()?.to_string())))
+                        })
+                        .collect(),
+                    Err(_) => Map::new(),
+                };
+                o.insert("units".into(), Json::Object(units));
+            }
         }
         Message::Unsubscribe { msg_id } => {
             o.insert("msg_id".into(), Json::from(*msg_id));
         }
         Message::Data { msg_id, payload } => {
             o.insert("msg_id".into(), Json::from(*msg_id));
-            match decoder(log, current, decoders, *msg_id) {
+            let utc = cx.payload_utc(*msg_id, payload);
+            match cx.decoder(*msg_id) {
                 None => {
                     o.insert("size".into(), Json::from(payload.len()));
                     o.insert("error".into(), Json::String("no subscription".into()));
@@ -401,6 +457,9 @@ fn message_json(
                                 })
                                 .collect();
                             o.insert("fields".into(), Json::Object(fields));
+                            if let Some(t) = utc {
+                                o.insert("utc".into(), Json::String(t.to_string()));
+                            }
                         }
                     }
                 }
@@ -416,6 +475,12 @@ fn message_json(
                 o.insert("tag".into(), Json::from(tag));
             }
             o.insert("timestamp".into(), Json::from(l.timestamp));
+            if let Some(clock) = &cx.utc {
+                o.insert(
+                    "utc".into(),
+                    Json::String(clock.at(l.timestamp).to_string()),
+                );
+            }
             o.insert(
                 "text".into(),
                 Json::String(l.text.to_string_lossy().into_owned()),

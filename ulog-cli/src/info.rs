@@ -20,6 +20,8 @@ JSON keys (--json; stable, new keys may be added):
   start_timestamp      header timestamp, microseconds
   last_timestamp       largest data timestamp, microseconds
   duration_s           (last - start) / 1e6
+  utc_start            UTC time of start_timestamp (RFC 3339, microseconds) or null
+  utc_source           where it comes from (`ulog info` text) or null
   flag_bits            null (no flag bits message) or {compat_flags, incompat_flags,
                        appended_offsets} (arrays of 8, 8 and 3 numbers)
   appended_sections    file offsets where appended data starts
@@ -264,6 +266,18 @@ fn write_findings(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
         let list: Vec<String> = appended.iter().map(u64::to_string).collect();
         writeln!(out, "Appended data at bytes: {}", list.join(", "))?;
     }
+    match log.utc() {
+        Some(clock) => writeln!(
+            out,
+            "UTC start: {:.0} (from {})",
+            clock.at(log.start_timestamp()),
+            clock.source()
+        )?,
+        None => writeln!(
+            out,
+            "UTC start: unknown (no GPS time, no boot_time_utc_us information)"
+        )?,
+    }
     let tagged = log
         .logged_messages()
         .iter()
@@ -352,12 +366,15 @@ fn to_json(name: &str, log: &ULog<'_>) -> Json {
         .iter()
         .map(|u| json!({"offset": u.offset, "type": u.msg_type, "size": u.payload.len()}))
         .collect();
+    let utc = log.utc();
     json!({
         "file": name,
         "file_version": log.version(),
         "start_timestamp": log.start_timestamp(),
         "last_timestamp": log.last_timestamp(),
         "duration_s": log.last_timestamp().saturating_sub(log.start_timestamp()) as f64 / 1e6,
+        "utc_start": utc.as_ref().map(|c| c.at(log.start_timestamp()).to_string()),
+        "utc_source": utc.as_ref().map(|c| c.source().to_string()),
         "flag_bits": log.flag_bits().map(|f| json!({
             "compat_flags": f.compat_flags,
             "incompat_flags": f.incompat_flags,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use ulog_core::read::ReadErrorKind;
+use ulog_core::read::{ReadErrorKind, UtcClock};
 use ulog_core::{LogFile, ReadError, ULog};
 
 use crate::failure::{io_text, Failure, Status};
@@ -30,6 +30,19 @@ pub fn not_a_directory(path: &Path) -> Result<(), Failure> {
 /// failure about `name`.
 pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
     ULog::parse(bytes).map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
+}
+
+/// The UTC clock of `log` for `--utc` ([`ULog::utc`]); a log that does not say its
+/// UTC time is a failure about `name` (exit status 6), not boot times printed as UTC.
+pub fn utc_clock(name: &str, log: &ULog<'_>) -> Result<UtcClock, Failure> {
+    log.utc().ok_or_else(|| {
+        Failure::about(
+            name,
+            "--utc: the log does not say its UTC time (no GPS time_utc_usec in \
+             vehicle_gps_position, sensor_gps or vehicle_gnss, and no boot_time_utc_us \
+             information); leave out --utc for times since boot",
+        )
+    })
 }
 
 /// A read error as one line without the file (the caller names it): what, and the
@@ -120,6 +133,33 @@ pub fn strip_log_extension(name: &str) -> Option<&str> {
         let (stem, tail) = (name.get(..cut)?, name.get(cut..)?);
         (tail.starts_with('.') && tail[1..].eq_ignore_ascii_case(ext)).then_some(stem)
     })
+}
+
+/// Says on stderr, once, that the reader stepped over damage in the log `name`
+/// (what the damaged stretches held is in no output), when `findings` has any.
+pub fn note_damage(name: &str, findings: &[ulog_core::Finding]) {
+    let damage = findings.iter().filter(|f| f.is_damage()).count();
+    if damage > 0 {
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
+            "ulog: {name}: {damage} damaged stretch(es) stepped over (`ulog check` lists \
+             them); what they held is not written"
+        );
+    }
+}
+
+/// The name of the log at `path` without its folder and its `.ulg`/`.ulog`
+/// extension (any case); the whole file name when it has neither.
+pub fn stem(path: &Path) -> String {
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    match strip_log_extension(&name) {
+        Some(stem) => stem.to_owned(),
+        None => name,
+    }
 }
 
 /// The threads a `-j/--jobs` option asks for: its value, else the number of CPUs.

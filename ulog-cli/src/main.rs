@@ -13,8 +13,11 @@ mod cut;
 mod describe;
 mod dump;
 mod failure;
+mod gps_dump;
 mod info;
 mod input;
+mod kml;
+mod mcap;
 mod messages;
 mod numfmt;
 mod params;
@@ -29,7 +32,7 @@ use clap::{Parser, Subcommand};
 
 use crate::failure::{Failure, Status};
 
-/// PX4 ULog flight logs: summary, check, dump, cut, CSV and Parquet export, plots.
+/// PX4 ULog flight logs: info, check, dump, cut; CSV, Parquet, MCAP, KML; plots.
 #[derive(Debug, Parser)]
 #[command(name = "ulog", version, long_about = None, after_help = failure::EXIT_STATUS_HELP)]
 struct Cli {
@@ -52,7 +55,10 @@ enum Command {
     Codegen(codegen::Args),
     Dump(dump::Args),
     Parquet(parquet::Args),
+    Mcap(mcap::Args),
     Plot(plot::Args),
+    Kml(kml::Args),
+    GpsDump(gps_dump::Args),
 }
 
 fn main() -> ExitCode {
@@ -70,7 +76,10 @@ fn main() -> ExitCode {
         Command::Codegen(a) => done(codegen::run(&a)),
         Command::Dump(a) => done(dump::run(&a)),
         Command::Parquet(a) => done(parquet::run(&a)),
+        Command::Mcap(a) => done(mcap::run(&a)),
         Command::Plot(a) => done(plot::run(&a)),
+        Command::Kml(a) => done(kml::run(&a)),
+        Command::GpsDump(a) => done(gps_dump::run(&a)),
     };
     match result {
         Ok(status) => status.code(),

@@ -45,6 +45,10 @@ pub struct Args {
     /// The profile of event messages.
     #[arg(long, default_value = "normal", value_parser = ["normal", "dev"])]
     profile: String,
+    /// Times as UTC (`2024-02-06T08:27:45.120Z`) instead of since boot, from the log's
+    /// GPS time or its `boot_time_utc_us` (`ulog info` says which).
+    #[arg(long)]
+    utc: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
@@ -92,15 +96,23 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if px4 {
         lines.sort_by_key(|l| l.0); // stable, as Python's sort
     }
+    let utc = match args.utc {
+        true => Some(input::utc_clock(&name, &log)?),
+        false => None,
+    };
     let mut out = BufWriter::new(io::stdout().lock());
     for (t, level, text) in &lines {
-        writeln!(out, "{}", line(*t, level, text)).map_err(stdout_err)?;
+        match &utc {
+            Some(clock) => writeln!(out, "{:.3} {level}: {text}", clock.at(*t)),
+            None => writeln!(out, "{}", line(*t, level, text)),
+        }
+        .map_err(stdout_err)?;
     }
     out.flush().map_err(stdout_err)
 }
 
 /// `H:MM:SS.mmm LEVEL: text`.
-pub fn line(timestamp: u64, level: &str, text: &str) -> String {
+fn line(timestamp: u64, level: &str, text: &str) -> String {
     let total_ms = timestamp / 1000;
     let s = total_ms / 1000;
     format!(

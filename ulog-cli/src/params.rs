@@ -5,11 +5,14 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
+use ulog_core::read::UtcClock;
 use ulog_core::{ULog, Value};
 
 use crate::failure::{io_text, Failure};
 use crate::input;
 use crate::pyfmt::py_str;
+
+mod diff;
 
 /// Print the parameters sorted by name, exactly as pyulog's `ulog_params` does.
 ///
@@ -18,30 +21,69 @@ use crate::pyfmt::py_str;
 /// or a `matrix` of the value and its changes. qgc: `1<TAB>1<TAB>name<TAB>value<TAB>type`
 /// (9 float, 6 integer). Values print as Python prints them: `float` parameters as the
 /// double they widen to (`0.10000000149011612`).
+///
+/// `--diff B.ulg` prints the parameters that differ between FILE (A) and B, and
+/// `--diff-defaults[=system|current_setup]` those of FILE that differ from the log's
+/// default values of that kind (system if not named; a parameter the log gives no
+/// default for is taken to be at its default): each parameter's value at the end of
+/// the log (the initial value with the changes applied; `--initial`: the initial
+/// value), sorted by name, as an aligned table (`-` where a side does not have the
+/// parameter; a note where the two values have different types, as an int32 1 and a
+/// float 1.0, which differ), `--format csv` (`name,A,B` under a header of the files'
+/// names without extension; an empty field where a side does not have it) or
+/// `--format json` (an array of `{"name", "a", "b"}`: numbers as JSON numbers, a
+/// `float` as the double it widens to, null where a side does not have it, NaN and
+/// infinities as the strings `nan`, `inf`, `-inf`). The exit status is 0 whether or not
+/// parameters differ (there is no `--exit-code`; an empty table or `[]` says none do).
 #[derive(Debug, clap::Args)]
 #[command(
     about = "The parameters, as pyulog's ulog_params prints them",
     long_about
 )]
 pub struct Args {
-    /// The ULog file.
+    /// The ULog file (A of `--diff`).
     file: PathBuf,
     /// Output file (default: stdout).
     output: Option<PathBuf>,
     /// Only the initial values, no changes (csv, octave). As in ulog_params, with
-    /// `--timestamps` the changes are still listed, all at the start time.
+    /// `--timestamps` the changes are still listed, all at the start time. With `--diff`
+    /// or `--diff-defaults`: compare the initial values instead of those at the end.
     #[arg(short = 'i', long)]
     initial: bool,
     /// The default values of this kind instead of the configured ones (implies
     /// `--initial`).
     #[arg(short = 'd', long, value_name = "KIND")]
     default: Option<DefaultKind>,
-    /// Output format.
-    #[arg(short = 'f', long, value_enum, default_value = "csv")]
-    format: OutputFormat,
+    /// The parameters that differ between FILE and this second log.
+    #[arg(
+        long,
+        value_name = "B.ulg",
+        conflicts_with_all = ["default", "timestamps", "utc", "diff_defaults"]
+    )]
+    diff: Option<PathBuf>,
+    /// The parameters that differ from the log's defaults of this kind (system if not
+    /// named; `--diff-defaults=current_setup`, so that a file after the option is not
+    /// taken for a kind).
+    #[arg(
+        long,
+        value_name = "KIND",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "system",
+        conflicts_with_all = ["default", "timestamps", "utc"]
+    )]
+    diff_defaults: Option<DefaultKind>,
+    /// Output format (default: csv; text with `--diff` and `--diff-defaults`).
+    #[arg(short = 'f', long, value_enum)]
+    format: Option<OutputFormat>,
     /// csv: list the changes with their timestamps.
     #[arg(short = 't', long)]
     timestamps: bool,
+    /// csv: list the changes with their times in UTC (RFC 3339; the initial values at
+    /// the log's start) instead of microseconds since boot, from the log's GPS time or
+    /// its `boot_time_utc_us` (`ulog info` says which). Implies `--timestamps`.
+    #[arg(long)]
+    utc: bool,
     /// csv delimiter.
     #[arg(short = 'l', long, default_value = ",", value_name = "DELIM")]
     delimiter: String,
@@ -61,9 +103,46 @@ enum OutputFormat {
     Csv,
     Octave,
     Qgc,
+    /// An aligned table (`--diff`, `--diff-defaults` only).
+    Text,
+    /// A JSON array (`--diff`, `--diff-defaults` only).
+    Json,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let diffing = args.diff.is_some() || args.diff_defaults.is_some();
+    let format = match (args.format, diffing) {
+        (Some(f @ (OutputFormat::Octave | OutputFormat::Qgc)), true) => {
+            diff::usage_error(&format!(
+                "--format {}: --diff and --diff-defaults print text, csv or json",
+                if f == OutputFormat::Octave {
+                    "octave"
+                } else {
+                    "qgc"
+                }
+            ))
+        }
+        (Some(f @ (OutputFormat::Text | OutputFormat::Json)), false) => {
+            diff::usage_error(&format!(
+                "--format {}: only with --diff or --diff-defaults (the parameters \
+                 themselves print as csv, octave or qgc)",
+                if f == OutputFormat::Text {
+                    "text"
+                } else {
+                    "json"
+                }
+            ))
+        }
+        (Some(f), _) => f,
+        (None, true) => OutputFormat::Text,
+        (None, false) => OutputFormat::Csv,
+    };
+    if diffing {
+        return diff::run(args, format);
+    }
+    if args.utc && format != OutputFormat::Csv {
+        diff::usage_error("--utc: only csv lists times (octave and qgc print values only)");
+    }
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
@@ -74,12 +153,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         None => ("stdout".to_owned(), Box::new(io::stdout().lock())),
     };
+    let utc = match args.utc {
+        true => Some(input::utc_clock(&name, &log)?),
+        false => None,
+    };
     let mut out = BufWriter::new(sink);
-    let text = render(&log, args).map_err(|m| Failure::about(&name, m))?;
+    let text = render(&log, args, format, utc.as_ref()).map_err(|m| Failure::about(&name, m))?;
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
         .map_err(|e| Failure::io(&out_name, &e))
 }
+
+/// Why `--default` and `--diff-defaults` fail on a log without defaults.
+const NO_DEFAULTS: &str =
+    "the log has no default parameters (compat flag DEFAULT_PARAMETERS is not set)";
 
 /// A parameter value: Python's `str()` of it, and whether Python holds it as a float.
 struct Param {
@@ -96,7 +183,12 @@ impl Param {
     }
 }
 
-fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
+fn render(
+    log: &ULog<'_>,
+    args: &Args,
+    format: OutputFormat,
+    utc: Option<&UtcClock>,
+) -> Result<String, String> {
     let mut params: BTreeMap<String, Param> = BTreeMap::new();
     let mut initial = args.initial;
     match args.default {
@@ -108,10 +200,7 @@ fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
         Some(kind) => {
             let has_defaults = log.flag_bits().is_some_and(|f| f.has_default_parameters());
             if !has_defaults {
-                return Err(
-                    "the log has no default parameters (compat flag DEFAULT_PARAMETERS is not set)"
-                        .into(),
-                );
+                return Err(NO_DEFAULTS.into());
             }
             let bit = if kind == DefaultKind::System { 1 } else { 2 };
             for d in log
@@ -148,8 +237,8 @@ fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
     let d = &args.delimiter;
     let mut s = String::new();
     for (key, p) in &params {
-        match args.format {
-            OutputFormat::Csv if args.timestamps => {
+        match format {
+            OutputFormat::Csv if args.timestamps || utc.is_some() => {
                 s.push_str(key);
                 s.push_str(d);
                 s.push_str(&p.text);
@@ -159,10 +248,16 @@ fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
                 }
                 s.push_str("\ntimestamp");
                 s.push_str(d);
-                s.push('0');
+                match utc {
+                    Some(clock) => s.push_str(&clock.at(log.start_timestamp()).to_string()),
+                    None => s.push('0'),
+                }
                 for c in changes_of(&changes, key) {
                     s.push_str(d);
-                    s.push_str(&c.1.to_string());
+                    match utc {
+                        Some(clock) => s.push_str(&clock.at(c.1).to_string()),
+                        None => s.push_str(&c.1.to_string()),
+                    }
                 }
                 s.push('\n');
             }
@@ -203,6 +298,7 @@ fn render(log: &ULog<'_>, args: &Args) -> Result<String, String> {
                 let ty = if p.is_float { 9 } else { 6 };
                 s.push_str(&format!("1\t1\t{key}\t{}\t{ty}\n", p.text));
             }
+            OutputFormat::Text | OutputFormat::Json => unreachable!("checked in run"),
         }
     }
     Ok(s)

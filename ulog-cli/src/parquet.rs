@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use ulog_core::export::{self, Compression, ExportErrorKind, Options};
-use ulog_core::read::ReadErrorKind;
+use ulog_core::read::{ReadErrorKind, UtcClock};
 use ulog_core::{LookupError, ReadError};
 
 use crate::failure::{io_text, stdout_err, Failure, Status};
@@ -58,6 +58,12 @@ pub struct Args {
     /// Compression of the Parquet files.
     #[arg(long, value_enum, default_value = "snappy", value_name = "CODEC")]
     compression: Codec,
+    /// Add a column `timestamp_utc` after `timestamp` (Arrow/Parquet timestamp, UTC,
+    /// microseconds) from the log's GPS time or its `boot_time_utc_us` (`ulog info`
+    /// says which). A log with neither is an error; with many logs, it is written
+    /// without the column and a line says so.
+    #[arg(long)]
+    utc: bool,
     /// Threads (default: the number of CPUs): logs converted at the same time, or,
     /// for a single log, row groups encoded at the same time.
     #[arg(short = 'j', long = "jobs", value_name = "N")]
@@ -124,7 +130,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // stop the others (its failure is its result).
     let sizes: Vec<u64> = jobs.iter().map(|j| j.size).collect();
     let results = ulog_core::parallel::largest_first(&sizes, available, |i| {
-        let result = convert(&jobs[i], &options, strict, &progress, &stdout);
+        let result = convert(&jobs[i], &options, args.utc, strict, &progress, &stdout);
         if let Err(Failure::Message(_, m)) = &result {
             if !strict {
                 progress.suspend(|| {
@@ -257,6 +263,7 @@ fn output_dir(input: &Path, dir: Option<&Path>) -> PathBuf {
 fn convert(
     job: &Job,
     options: &Options,
+    utc: bool,
     strict: bool,
     progress: &Progress,
     stdout: &Mutex<io::Stdout>,
@@ -267,6 +274,9 @@ fn convert(
         progress.message(name.clone());
         let mut options = options.clone();
         options.skip_missing_topics = !strict;
+        if utc {
+            options.utc = utc_clock(&job.input, &name, strict, progress)?;
+        }
         let mut done = Done {
             found: Vec::new(),
             suggestion: None,
@@ -358,6 +368,34 @@ fn failure(name: &str, e: &export::ExportError) -> Failure {
             }
         }
         _ => Failure::about(name, e),
+    }
+}
+
+/// The UTC clock of the log at `path` (`--utc`): read before the export, which is
+/// one pass in file order and meets the GPS time only as it goes (so `--utc` reads a
+/// log twice, and holds it whole in memory for the first read). With many logs
+/// (`strict` false), a log without one is written without the column.
+fn utc_clock(
+    path: &Path,
+    name: &str,
+    strict: bool,
+    progress: &Progress,
+) -> Result<Option<UtcClock>, Failure> {
+    // Read whole (as other commands do), then dropped before the export starts.
+    let file = input::open(path)?;
+    let log = input::parse(name, file.bytes())?;
+    match input::utc_clock(name, &log) {
+        Ok(clock) => Ok(Some(clock)),
+        Err(f) if strict => Err(f),
+        Err(_) => {
+            progress.suspend(|| {
+                let _ = writeln!(
+                    io::stderr(),
+                    "ulog: {name}: no UTC time in the log: written without timestamp_utc"
+                );
+            });
+            Ok(None)
+        }
     }
 }
 

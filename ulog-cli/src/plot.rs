@@ -7,7 +7,6 @@ mod font;
 mod markers;
 mod series;
 mod spec;
-mod units;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -77,6 +76,11 @@ pub struct Args {
     /// (default: the last point).
     #[arg(long, value_name = "TIME", value_parser = input::seconds)]
     end: Option<f64>,
+    /// Label the time axis with UTC times of day (`08:25:44`) instead of seconds since
+    /// the log's start, from the log's GPS time or its `boot_time_utc_us` (`ulog info`
+    /// says which); `--start` and `--end` are still times since the start.
+    #[arg(long)]
+    utc: bool,
     /// Not plot's: `csv`'s boot-time range. Refused with a pointer to `--start`.
     #[arg(long = "time-start", hide = true, value_name = "S", value_parser = not_plots)]
     _time_start: Option<String>,
@@ -148,6 +152,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
     let start_us = log.start_timestamp();
+    let utc_start = match args.utc {
+        true => Some(input::utc_clock(&name, &log)?.at(start_us)),
+        false => None,
+    };
 
     let mut all: Vec<Series> = Vec::new();
     for spec in &args.fields {
@@ -185,6 +193,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         markers: &marks,
         x_range: (x0, x1),
         separate: args.separate,
+        utc_start,
     };
     let out = match &args.output {
         Some(p) => p.clone(),

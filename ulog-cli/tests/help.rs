@@ -18,6 +18,8 @@ const COMMANDS: &[(&str, &str)] = &[
     ("dump", "dump.rs"),
     ("parquet", "parquet.rs"),
     ("plot", "plot.rs"),
+    ("kml", "kml.rs"),
+    ("gps-dump", "gps_dump.rs"),
 ];
 
 /// The doc comment of `pub struct Args` in `src/<file>`, as one line of words.

@@ -60,8 +60,9 @@ pub(crate) enum Absent {
     Required,
     /// `None`: the field is `Option<shape>`.
     None,
-    /// `Default::default()`, or the expression given.
-    Default(Option<syn::Expr>),
+    /// `Default::default()`, or the expression given (boxed: a `syn::Expr` is some
+    /// hundreds of bytes, and most fields have none).
+    Default(Option<Box<syn::Expr>>),
 }
 
 /// How a field maps to bytes.

@@ -72,7 +72,7 @@ fn lower_field(f: InputField, errors: &mut Errors) -> Option<MessageField> {
             errors.at(span, "a padding field cannot have a default");
             Absent::Required
         }
-        (false, Some((_, expr))) => Absent::Default(expr),
+        (false, Some((_, expr))) => Absent::Default(expr.map(Box::new)),
         (false, None) => Absent::Required,
     };
     let shape = if padding {

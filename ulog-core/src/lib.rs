@@ -26,6 +26,12 @@
 //! | append (crash data) | [`append`] |
 //! | copy byte for byte | [`copy_log`] |
 //! | cut a time window, keep or drop topics, map payloads | [`Edit`] |
+//! | the parameters that differ between two flights, or from the defaults | [`ULog::diff_params`], [`ULog::diff_param_defaults`] |
+//! | the UTC time of the timestamps | [`ULog::utc`] |
+//! | the unit of a field | [`units::unit_of`] |
+//! | the GPS track by flight mode (for KML, GPX), GPS receiver bytes | [`track::Track::from_log`], [`track::gps_dump`] |
+//! | an MCAP file (ROS 2 CDR or JSON) for Foxglove and ROS 2 tools | `mcap::write_mcap` (feature `mcap`) |
+//! | Parquet files for query engines | `export::write_parquet` (feature `parquet`) |
 //!
 //! A pass ([`scan`], [`scan_topics`], [`load_columns`]) reads any [`Source`]: bytes, a
 //! [`LogFile`], a parsed [`ULog`], any `Read`, a file by path. How it reads (a second
@@ -48,7 +54,8 @@
 //! - The root holds what a program names; the modules hold the rest, each item at one
 //!   path: [`read`] (what a log holds: metadata, messages, findings), [`stream`],
 //!   [`columns`], [`typed`] (the machinery of bindings), [`write`](mod@write), `export` (feature
-//!   `parquet`), [`format`](mod@format) (the grammar), [`parallel`], [`testing`].
+//!   `parquet`), `mcap` (feature `mcap`), [`format`](mod@format) (the grammar),
+//!   [`parallel`], [`testing`], [`units`], [`track`].
 //!
 //! # Damage
 //!
@@ -73,11 +80,15 @@ pub mod export;
 mod finding;
 mod framing;
 mod log;
+#[cfg(feature = "mcap")]
+pub mod mcap;
 pub mod parallel;
 mod pass;
 mod suggest;
 pub mod testing;
+pub mod track;
 pub mod typed;
+pub mod units;
 mod value;
 pub mod write;
 
@@ -135,6 +146,10 @@ pub mod read {
         DefaultParam, Dropout, MultiInfo, ParamChange, ReleaseVersion, UnknownMessage,
     };
     pub use crate::log::offsets::{MessageOffsets, OffsetsIter};
+    pub use crate::log::params::{
+        diff_from_defaults, diff_params, same_param_value, DefaultKind, ParamDefaults, ParamDiff,
+    };
+    pub use crate::log::utc::{UtcClock, UtcSource, UtcTime};
     pub use crate::pass::scan::{ScanFlow, ScanOrder};
     pub use crate::value::{LogText, ValueArray};
 }

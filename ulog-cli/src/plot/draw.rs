@@ -6,6 +6,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontTransform;
 
+use ulog_core::read::UtcTime;
+
 use super::markers::{Kind, Marker};
 use super::series::Series;
 
@@ -41,6 +43,8 @@ pub struct Chart<'a> {
     pub x_range: (f64, f64),
     /// One panel per series instead of all on one.
     pub separate: bool,
+    /// The UTC time of the log's start (x = 0), to label the time axis with (`--utc`).
+    pub utc_start: Option<UtcTime>,
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
@@ -96,7 +100,11 @@ fn draw_panel<DB: DrawingBackend>(
         .y_label_area_size(76)
         .build_cartesian_2d(x0..x1, y0..y1)?;
     let mut mesh = ctx.configure_mesh();
-    let x_ticks = move |v: &f64| tick(*v, x1 - x0);
+    let utc_start = chart.utc_start;
+    let x_ticks = move |v: &f64| match utc_start {
+        Some(t0) => utc_tick(t0, *v, x1 - x0),
+        None => tick(*v, x1 - x0),
+    };
     let y_ticks = move |v: &f64| tick(*v, y1 - y0);
     mesh.y_desc(y_desc(series.iter().map(|(_, s)| *s)))
         .x_label_formatter(&x_ticks)
@@ -105,8 +113,12 @@ fn draw_panel<DB: DrawingBackend>(
         .axis_desc_style((FONT, 15))
         .light_line_style(RGBColor(235, 235, 235))
         .bold_line_style(RGBColor(205, 205, 205));
+    let utc_desc = utc_start.map(|t0| {
+        let day = format!("{:.0}", t0);
+        format!("UTC time of day (log start: {})", day.replace('T', " "))
+    });
     if layout.x_desc {
-        mesh.x_desc("time since log start [s]");
+        mesh.x_desc(utc_desc.as_deref().unwrap_or("time since log start [s]"));
     }
     mesh.draw()?;
 
@@ -335,6 +347,26 @@ fn y_desc<'s>(series: impl Iterator<Item = &'s Series>) -> String {
         "value".to_owned()
     } else {
         units.join(", ")
+    }
+}
+
+/// A time axis label in UTC: the time of day `seconds` after `start`, with tenths of a
+/// second when the axis spans less than 10 s.
+fn utc_tick(start: UtcTime, seconds: f64, span: f64) -> String {
+    let t = UtcTime(
+        start
+            .micros()
+            .saturating_add((seconds * 1e6).round() as i64),
+    );
+    let text = if span < 10.0 {
+        format!("{t:.1}")
+    } else {
+        format!("{t:.0}")
+    };
+    // `2024-02-06T08:25:44.5Z` → `08:25:44.5`.
+    match text.split_once('T') {
+        Some((_, time)) => time.trim_end_matches('Z').to_owned(),
+        None => text,
     }
 }
 

@@ -4,8 +4,8 @@ use ulog_core::read::{FieldShape, Unwrapper};
 use ulog_core::{FieldReader, LookupError, Topic, ULog};
 
 use super::spec::FieldSpec;
-use super::units::unit_of;
 use crate::failure::Failure;
+use ulog_core::units::unit_of;
 
 /// One line of the plot.
 #[derive(Debug, Clone)]

@@ -32,6 +32,25 @@ where
     String::from_utf8(out.stdout).expect("utf-8 output")
 }
 
+/// Runs `python3` with `args` and returns its stdout, failing the test (with its
+/// stderr) when it fails.
+pub fn python<I, S>(args: I) -> Vec<u8>
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    let out = Command::new("python3")
+        .args(args)
+        .output()
+        .expect("run python3");
+    assert!(
+        out.status.success(),
+        "python3 failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
 /// The corpus of real logs the tests check (`files/` and pyulog's `expected/`), as
 /// `build.rs` found it: `$ULOG_CORPUS`, else the full shared corpus beside the
 /// workspace (`../shared/corpus`), else the repository's own logs (`tests/corpus`).

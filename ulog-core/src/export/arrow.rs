@@ -15,15 +15,16 @@ use arrow_array::types::{
 };
 use arrow_array::{
     ArrayRef, ArrowPrimitiveType, BooleanArray, FixedSizeListArray, PrimitiveArray, RecordBatch,
-    RecordBatchOptions, StructArray,
+    RecordBatchOptions, StructArray, TimestampMicrosecondArray,
 };
-use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef};
+use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef, TimeUnit};
 use ulog_format::{BasicType, LayoutField, LayoutType};
 
 use super::error::{ExportError, ExportErrorKind};
 use crate::access::field::{FieldReader, FieldShape};
 use crate::access::lookup::LookupError;
 use crate::definitions::Subscription;
+use crate::units::unit_of;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
 
@@ -50,6 +51,9 @@ enum Node {
         fields: Fields,
         children: Vec<Node>,
     },
+    /// The UTC time of the `uint64_t` timestamp at `offset`, `boot_us` microseconds
+    /// since the Unix epoch at timestamp 0.
+    Utc { offset: usize, boot_us: i64 },
 }
 
 impl Node {
@@ -62,6 +66,7 @@ impl Node {
                 DataType::FixedSizeList(Arc::new(item_field(item)), *len as i32)
             }
             Node::Struct { fields, .. } => DataType::Struct(fields.clone()),
+            Node::Utc { .. } => DataType::Timestamp(TimeUnit::Microsecond, Some("UTC".into())),
         }
     }
 
@@ -69,6 +74,7 @@ impl Node {
     fn end(&self) -> usize {
         match self {
             Node::Value { ty, offset } => offset + ty.size(),
+            Node::Utc { offset, .. } => offset + 8,
             Node::Text { offset, len } => offset + len,
             Node::List {
                 offset,
@@ -167,6 +173,21 @@ fn struct_of(
     (Fields::from(arrow), nodes)
 }
 
+/// A column path without its array indices: `esc[2].esc_rpm` → `esc.esc_rpm`.
+fn without_indices(path: &str) -> String {
+    let mut out = String::with_capacity(path.len());
+    let mut depth = 0;
+    for c in path.chars() {
+        match c {
+            '[' => depth += 1,
+            ']' => depth -= 1,
+            _ if depth == 0 => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
 /// The text of a field's type as in a format string: `float[4]`, `esc_report[8]`.
 fn type_text(f: &LayoutField) -> String {
     match f.array_len {
@@ -238,12 +259,43 @@ impl TopicTable {
         } else {
             struct_of(layout.fields(), |f| metadata(&f.name, type_text(f)))
         };
+        let (mut fields, mut columns) = (fields.to_vec(), columns);
+        if let Some(clock) = &options.utc {
+            let at = fields.iter().position(|f| f.name() == "timestamp");
+            if let (Some(at), Some(t)) = (at, ts.filter(|t| t.ty == BasicType::UInt64)) {
+                let node = Node::Utc {
+                    offset: t.offset,
+                    boot_us: clock.boot_us(),
+                };
+                let source =
+                    HashMap::from([("ulog.utc_source".to_owned(), clock.source().to_string())]);
+                fields.insert(
+                    at + 1,
+                    Arc::new(
+                        Field::new("timestamp_utc", node.data_type(), false).with_metadata(source),
+                    ),
+                );
+                columns.insert(at + 1, node);
+            }
+        }
+        let fields = Fields::from(fields);
         let formats: Vec<String> = layout.formats().iter().map(|f| f.to_string()).collect();
-        let metadata = HashMap::from([
+        let mut metadata = HashMap::from([
             ("ulog.topic".to_owned(), topic.name().to_owned()),
             ("ulog.multi_id".to_owned(), topic.multi_id().to_string()),
             ("ulog.format".to_owned(), formats.join("\n")),
         ]);
+        // Units in the schema's metadata, one key per field (indices left out: every
+        // element of an array has its unit): a field's metadata keeps one entry, as
+        // Arrow writes those in hash order.
+        for r in FieldReader::all(layout) {
+            if let Some(unit) = unit_of(topic.name(), r.path()) {
+                metadata.insert(
+                    format!("ulog.unit.{}", without_indices(r.path())),
+                    unit.to_owned(),
+                );
+            }
+        }
         let needed = columns.iter().map(Node::end).max().unwrap_or(0);
         Ok(TopicTable {
             schema: Arc::new(Schema::new_with_metadata(fields, metadata)),
@@ -346,6 +398,15 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
                     .map_err(ExportError::encoding)?,
             )
         }
+        Node::Utc { offset, boot_us } => Arc::new(
+            TimestampMicrosecondArray::from_iter_values(bases.iter().map(|&(p, b)| {
+                let mut a = [0u8; 8];
+                a.copy_from_slice(&p[b + offset..b + offset + 8]);
+                let t = u64::from_le_bytes(a).min(i64::MAX as u64) as i64;
+                boot_us.saturating_add(t)
+            }))
+            .with_timezone("UTC"),
+        ),
     })
 }
 

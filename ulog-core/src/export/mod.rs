@@ -32,7 +32,10 @@
 //! Every other top-level field (every column, flattened) has metadata `ulog.type`, its
 //! type as in the format string (`float[4]`, `char[16]`, `esc_report[8]`). The schema
 //! has metadata `ulog.topic`, `ulog.multi_id` and `ulog.format` (the formats the
-//! topic uses, one per line, nested ones first); in the Parquet files these are
+//! topic uses, one per line, nested ones first) and, for each field whose name says
+//! its unit ([`crate::units`]), `ulog.unit.<field>` with the field's path without
+//! array indices (`ulog.unit.accelerometer_m_s2` = `m/s²`, `ulog.unit.esc.esc_rpm` =
+//! `rpm`); in the Parquet files these are
 //! key-value metadata, which Arrow readers put back in the schema. The files are the
 //! same byte for byte from run to run.
 //!
@@ -76,6 +79,7 @@ pub use error::{ExportError, ExportErrorKind};
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
 use crate::log::ulog::ULog;
+use crate::log::utc::UtcClock;
 use arrow::TopicTable;
 
 /// The compression of the Parquet files.
@@ -124,6 +128,11 @@ pub struct Options {
     /// [`Export::missing_topics`] instead of failing the export (which still fails
     /// when the log has none of the names).
     pub skip_missing_topics: bool,
+    /// Add a column `timestamp_utc` after `timestamp` (`uint64_t` timestamps only):
+    /// each row's time in UTC by this clock ([`ULog::utc`](crate::ULog::utc)), an
+    /// Arrow `Timestamp(Microsecond, "UTC")`, with field metadata `ulog.utc_source`
+    /// saying where the time comes from.
+    pub utc: Option<UtcClock>,
 }
 
 impl Default for Options {
@@ -137,6 +146,7 @@ impl Default for Options {
             threads: 1,
             buffer_bytes: 32 << 20,
             skip_missing_topics: false,
+            utc: None,
         }
     }
 }

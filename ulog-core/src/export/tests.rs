@@ -307,6 +307,87 @@ fn parquet_files_read_back_equal_to_the_record_batches() {
 }
 
 #[test]
+fn units_of_fields_are_in_the_files_metadata_by_field_path() {
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    for options in [Options::default(), flat()] {
+        let dir = scratch(&format!("units-{}", options.flatten));
+        let export = write_parquet(&log, &dir, &options).unwrap();
+        let file = |topic: &str| {
+            let w = export.files.iter().find(|w| w.topic == topic).unwrap();
+            read_back(&w.path).0
+        };
+        let esc = file("esc_status");
+        let units: Vec<(&str, &str)> = esc
+            .metadata()
+            .iter()
+            .filter_map(|(k, v)| Some((k.strip_prefix("ulog.unit.")?, v.as_str())))
+            .collect::<std::collections::BTreeMap<_, _>>()
+            .into_iter()
+            .collect();
+        // Nested fields by their path without indices; fields whose name says no unit
+        // (`esc_count`, `timestamp`, which has its own) have no key.
+        assert_eq!(units, [("esc.esc_rpm", "rpm"), ("esc.esc_voltage", "V")]);
+        let position = file("vehicle_local_position");
+        assert_eq!(position.metadata()["ulog.unit.z"], "m");
+        assert_eq!(position.metadata()["ulog.unit.vx"], "m/s");
+        assert!(!position.metadata().contains_key("ulog.unit.xy_valid"));
+        assert_eq!(
+            file("battery_status").metadata()["ulog.unit.voltage_v"],
+            "V"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[test]
+fn a_utc_column_follows_the_timestamp_with_the_clocks_time() {
+    use crate::read::UtcClock;
+    let bytes = crate::testing::sample_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let boot = 1_707_236_822_000_000i64;
+    for flatten in [false, true] {
+        let options = Options {
+            flatten,
+            utc: Some(UtcClock::from_boot(boot)),
+            ..Options::default()
+        };
+        let dir = scratch(&format!("utc-{flatten}"));
+        let export = write_parquet(&log, &dir, &options).unwrap();
+        for written in &export.files {
+            let topic = log.topic(&written.topic, written.multi_id).unwrap();
+            let (schema, batch) = read_back(&written.path);
+            let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+            assert_eq!(
+                names[..2],
+                ["timestamp", "timestamp_utc"],
+                "{}",
+                written.topic
+            );
+            let field = schema.field(1);
+            assert_eq!(
+                field.data_type(),
+                &DataType::Timestamp(arrow_schema::TimeUnit::Microsecond, Some("UTC".into()))
+            );
+            assert_eq!(
+                field.metadata()["ulog.utc_source"],
+                "information key boot_time_utc_us"
+            );
+            let utc = batch
+                .column(1)
+                .as_primitive::<arrow_array::types::TimestampMicrosecondType>();
+            let expected: Vec<i64> = topic
+                .timestamps()
+                .iter()
+                .map(|&t| boot + t as i64)
+                .collect();
+            assert_eq!(utc.values(), &expected[..], "{}", written.topic);
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[test]
 fn batches_split_rows_and_keep_them_all() {
     let bytes = crate::testing::sample_log();
     let log = ULog::parse(&bytes).unwrap();

@@ -6,4 +6,6 @@ pub(crate) mod message;
 pub(crate) mod messages;
 pub(crate) mod metadata;
 pub(crate) mod offsets;
+pub(crate) mod params;
 pub(crate) mod ulog;
+pub(crate) mod utc;
