@@ -72,10 +72,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = input::open(&args.file)?;
     let threads = input::threads(args.jobs);
     let log = input::parse(&name, file.bytes())?;
-    let utc = match args.utc {
-        true => Some(input::utc_clock(&name, &log)?.boot_us()),
-        false => None,
-    };
+    let utc = input::utc_clock(&name, &log, args.utc)?.map(|c| c.boot_us());
 
     let mut topics: Vec<Topic<'_, '_>> = log.topics().filter(|t| !t.is_empty()).collect();
     if let Some(list) = &args.messages {

@@ -100,10 +100,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(list) => Some(input::topic_list(&name, &log, list)?),
         None => None,
     };
-    let utc = match args.utc {
-        true => Some(input::utc_clock(&name, &log)?),
-        false => None,
-    };
+    let utc = input::utc_clock(&name, &log, args.utc)?;
     // Subscriptions the reader kept, by the offset of their `A` message.
     let mut cx = Context {
         log: &log,

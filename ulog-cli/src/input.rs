@@ -32,10 +32,14 @@ pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
     ULog::parse(bytes).map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
 }
 
-/// The UTC clock of `log` for `--utc` ([`ULog::utc`]); a log that does not say its
-/// UTC time is a failure about `name` (exit status 6), not boot times printed as UTC.
-pub fn utc_clock(name: &str, log: &ULog<'_>) -> Result<UtcClock, Failure> {
-    log.utc().ok_or_else(|| {
+/// The UTC clock of `log` when `--utc` is `wanted` ([`ULog::utc`]); a log that does
+/// not say its UTC time is then a failure about `name` (exit status 6), not boot times
+/// printed as UTC.
+pub fn utc_clock(name: &str, log: &ULog<'_>, wanted: bool) -> Result<Option<UtcClock>, Failure> {
+    if !wanted {
+        return Ok(None);
+    }
+    log.utc().map(Some).ok_or_else(|| {
         Failure::about(
             name,
             "--utc: the log does not say its UTC time (no GPS time_utc_usec in \

@@ -148,11 +148,15 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
         end_us: args.end.map(at),
         ..McapOptions::default()
     };
-    if args.utc {
-        // The clock needs the GPS rows: a parse first (the file read whole, then let go).
-        let bytes = input::open(file)?;
+    // The clock needs the GPS rows: with `--utc` the file is read whole and parsed
+    // first, and the pass then frames those bytes (the file is read once either way).
+    let held = match args.utc {
+        true => Some(input::open(file)?),
+        false => None,
+    };
+    if let Some(bytes) = &held {
         let log = input::parse(&name, bytes.bytes())?;
-        options.utc = Some(input::utc_clock(&name, &log)?);
+        options.utc = input::utc_clock(&name, &log, true)?;
     }
     let shown = out.display().to_string();
     if out.is_dir() {
@@ -166,7 +170,11 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
     let partial = PathBuf::from(partial);
     let sink =
         std::fs::File::create(&partial).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-    let written = write_mcap(Source::file(file), BufWriter::new(sink), &options);
+    let source = match &held {
+        Some(bytes) => Source::from(bytes),
+        None => Source::file(file),
+    };
+    let written = write_mcap(source, BufWriter::new(sink), &options);
     let summary = match written {
         Ok(s) => s,
         Err(e) => {

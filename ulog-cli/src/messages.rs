@@ -96,10 +96,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if px4 {
         lines.sort_by_key(|l| l.0); // stable, as Python's sort
     }
-    let utc = match args.utc {
-        true => Some(input::utc_clock(&name, &log)?),
-        false => None,
-    };
+    let utc = input::utc_clock(&name, &log, args.utc)?;
     let mut out = BufWriter::new(io::stdout().lock());
     for (t, level, text) in &lines {
         match &utc {

@@ -153,10 +153,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         None => ("stdout".to_owned(), Box::new(io::stdout().lock())),
     };
-    let utc = match args.utc {
-        true => Some(input::utc_clock(&name, &log)?),
-        false => None,
-    };
+    let utc = input::utc_clock(&name, &log, args.utc)?;
     let mut out = BufWriter::new(sink);
     let text = render(&log, args, format, utc.as_ref()).map_err(|m| Failure::about(&name, m))?;
     out.write_all(text.as_bytes())

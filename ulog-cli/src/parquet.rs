@@ -384,8 +384,8 @@ fn utc_clock(
     // Read whole (as other commands do), then dropped before the export starts.
     let file = input::open(path)?;
     let log = input::parse(name, file.bytes())?;
-    match input::utc_clock(name, &log) {
-        Ok(clock) => Ok(Some(clock)),
+    match input::utc_clock(name, &log, true) {
+        Ok(clock) => Ok(clock),
         Err(f) if strict => Err(f),
         Err(_) => {
             progress.suspend(|| {

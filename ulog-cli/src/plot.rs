@@ -152,10 +152,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
     let start_us = log.start_timestamp();
-    let utc_start = match args.utc {
-        true => Some(input::utc_clock(&name, &log)?.at(start_us)),
-        false => None,
-    };
+    let utc_start = input::utc_clock(&name, &log, args.utc)?.map(|c| c.at(start_us));
 
     let mut all: Vec<Series> = Vec::new();
     for spec in &args.fields {

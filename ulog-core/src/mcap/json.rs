@@ -92,11 +92,13 @@ fn item_schema(ty: &LayoutType, s: &mut String) {
 /// Writes the JSON message of `payload` into `out` (cleared first); `None` when the
 /// payload is shorter than its fields.
 pub(crate) fn encode_json(layout: &Layout, payload: &[u8], out: &mut Vec<u8>) -> Option<()> {
-    out.clear();
-    let mut s = String::with_capacity(out.capacity());
-    object(layout, payload, 0, &mut s)?;
-    out.extend_from_slice(s.as_bytes());
-    Some(())
+    // The buffer's memory is reused from message to message: it holds UTF-8 (the
+    // messages written) or nothing.
+    let mut s = String::from_utf8(std::mem::take(out)).unwrap_or_default();
+    s.clear();
+    let done = object(layout, payload, 0, &mut s);
+    *out = s.into_bytes();
+    done
 }
 
 fn object(layout: &Layout, p: &[u8], base: usize, s: &mut String) -> Option<()> {

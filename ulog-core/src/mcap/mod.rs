@@ -98,6 +98,13 @@ pub struct McapOptions {
     pub zstd: bool,
 }
 
+impl McapOptions {
+    /// Whether timestamp `t` is in the window.
+    pub(super) fn contains(&self, t: u64) -> bool {
+        self.start_us.map_or(true, |s| t >= s) && self.end_us.map_or(true, |e| t <= e)
+    }
+}
+
 impl Default for McapOptions {
     fn default() -> McapOptions {
         McapOptions {

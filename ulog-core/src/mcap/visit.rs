@@ -78,10 +78,6 @@ impl<W: Write + Seek> Visitor<'_, W> {
         }
     }
 
-    fn inside(&self, t: u64) -> bool {
-        inside(self.options, t)
-    }
-
     pub(super) fn metadata(
         &mut self,
         name: &str,
@@ -197,7 +193,7 @@ impl<W: Write + Seek> Visitor<'_, W> {
     }
 
     fn logged(&mut self, level: u8, tag: Option<u16>, t: u64, text: &str) -> Result<(), McapError> {
-        if !self.inside(t) {
+        if !self.options.contains(t) {
             return Ok(());
         }
         let id = self.fixed_channel(Fixed::Rosout)?;
@@ -245,7 +241,7 @@ impl<W: Write + Seek> Visitor<'_, W> {
             return Ok(());
         }
         self.release_params()?;
-        if !self.inside(t) {
+        if !self.options.contains(t) {
             return Ok(());
         }
         self.write_parameter(&name, value, t, false)
@@ -371,7 +367,7 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
         let Slot::Open(c) = &mut self.slots[i] else {
             return Hand::Next;
         };
-        if !inside(self.options, t) {
+        if !self.options.contains(t) {
             return Hand::Next;
         }
         let encoded = match self.options.encoding {
@@ -402,11 +398,6 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
             }
         }
     }
-}
-
-/// Whether timestamp `t` is in the window of `options`.
-fn inside(options: &McapOptions, t: u64) -> bool {
-    options.start_us.map_or(true, |s| t >= s) && options.end_us.map_or(true, |e| t <= e)
 }
 
 /// A value as metadata text: strings as they are, numbers as Rust prints them.
