@@ -10,7 +10,8 @@
 // otherwise; install it, then touch the build script to rebuild them),
 // `cfg(simplekml)` where it can import simplekml too (pyulog's `ulog2kml`), and
 // `cfg(mcap_readers)` where it can import `mcap`, `mcap_ros2`, `rosbags` and
-// `jsonschema`. With
+// `jsonschema`, `cfg(query_engines)` where it can import `duckdb` and `datafusion`
+// (which run the README's fleet queries). With
 // `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
 // the build instead, so that no test is ignored there.
 
@@ -18,7 +19,9 @@
 /// and `own` are the two corpus folders relative to the package. Returns the corpus.
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
-    println!("cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers)");
+    println!(
+        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines)"
+    );
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
     println!("cargo::rerun-if-env-changed=ULOG_CORPUS");
@@ -48,7 +51,8 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     // The Python packages the tests check our output with: pyulog, the reference
     // reader; simplekml, which pyulog's `ulog2kml` writes its KML with; Foxglove's
     // MCAP readers (`mcap`, `mcap-ros2-support`), `rosbags` and `jsonschema`, which read
-    // and validate the MCAP files and ROS 2 bags we write.
+    // and validate the MCAP files and ROS 2 bags we write; DuckDB and DataFusion, which
+    // query the Parquet datasets we write.
     let packages = [
         ("pyulog", "pyulog", "pyulog"),
         ("simplekml", "pyulog, simplekml", "simplekml"),
@@ -57,6 +61,7 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
             "mcap, mcap_ros2, rosbags, jsonschema",
             "mcap, mcap-ros2-support, rosbags or jsonschema",
         ),
+        ("query_engines", "duckdb, datafusion", "duckdb or datafusion"),
     ];
     for (cfg, imports, what) in packages {
         let found = std::process::Command::new("python3")

@@ -1,5 +1,5 @@
-//! `ulog parquet`: logs to Parquet files, one per topic instance, plus a metadata file
-//! per log; many logs at once, in parallel.
+//! `ulog parquet`: logs to a Parquet dataset (one file per topic and log, and four
+//! tables of what the logs are), or one folder per log; many logs at once, in parallel.
 
 use std::collections::BTreeSet;
 use std::io::{self, Write};
@@ -7,7 +7,7 @@ use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use ulog_core::export::{self, Compression, ExportErrorKind, Options};
+use ulog_core::export::{self, Added, Compression, Dataset, ExportErrorKind, Options};
 use ulog_core::read::{ReadErrorKind, UtcClock};
 use ulog_core::{LookupError, ReadError};
 
@@ -15,16 +15,28 @@ use crate::failure::{io_text, stdout_err, Failure, Status};
 use crate::input;
 use crate::progress::Progress;
 
-/// Convert logs to Parquet: each log to a folder `<log stem>/` holding one file per
-/// topic instance with data, `<topic>_<multi_id>.parquet` (`/` in a topic name becomes
-/// `_`), and `metadata.json` (information, multi-information, initial, changed and
-/// default parameters, logged messages, dropouts, damage found, topics). Any engine
-/// that reads Parquet (DuckDB, DataFusion, Polars, Spark) can then query many logs.
+/// Convert logs to Parquet, as one dataset that query engines (DuckDB, DataFusion,
+/// Polars, Spark) read across logs in one statement: `DATASET/<topic>/<log_id>.parquet`
+/// holds a topic's rows in one log (all its instances, with columns `log_id` and
+/// `multi_id` first); `DATASET/logs.parquet` one row per log (source, size, sha256,
+/// start in boot time and UTC, duration, system, versions, vehicle type, counts, damage
+/// found); `parameters.parquet` the initial, changed and default parameters;
+/// `messages.parquet` the logged strings and PX4 events; `formats.parquet` the message
+/// formats of each log.
+///
+/// `log_id` is the first 16 hex digits of the log's SHA-256: a log already in the
+/// dataset is skipped, so converting into an existing dataset adds only the new logs.
+/// The files are the same byte for byte from run to run.
 ///
 /// Columns keep the log's types (a `uint64_t` stays UInt64; `bool` is Boolean);
 /// arrays are fixed-size lists and nested types structs, unless `--flatten`; `char[N]`
 /// is a string without its trailing NULs, one character per byte (ISO 8859-1, so no
 /// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
+///
+/// With `--per-log`, each log goes to a folder of its own instead: `<log stem>/`
+/// holding `<topic>_<multi_id>.parquet` per topic instance (`/` in a topic name
+/// becomes `_`) and `metadata.json` (information, parameters, logged messages,
+/// dropouts, damage found, topics).
 ///
 /// Several logs are converted in parallel, each by one thread; a single log is read
 /// once, in chunks (never held whole), its row groups encoded in parallel as it goes.
@@ -36,14 +48,19 @@ use crate::progress::Progress;
     long_about
 )]
 pub struct Args {
-    /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) directly
-    /// in a directory is converted (not those in its subdirectories).
+    /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) in a
+    /// directory and its subdirectories is converted.
     #[arg(required = true, value_name = "FILE_OR_DIR")]
     inputs: Vec<PathBuf>,
-    /// Output directory: each log goes to `DIR/<log stem>/` (created if missing;
-    /// default: `<log stem>/` beside each log).
-    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    /// The dataset (a folder, made if missing; the logs it has are skipped). Default
+    /// with one log: `<log stem>/` beside it. With `--per-log`: each log goes to
+    /// `DIR/<log stem>/` (default: `<log stem>/` beside each log).
+    #[arg(short = 'o', long = "output", value_name = "DATASET")]
     output: Option<PathBuf>,
+    /// One folder per log (`<topic>_<multi_id>.parquet` and `metadata.json`) instead
+    /// of a dataset.
+    #[arg(long)]
+    per_log: bool,
     /// pyulog's columns instead of struct and list columns: one per value, named by
     /// path (`q[0]`, `esc[3].esc_rpm`), `timestamp` first, as `ulog csv` names them
     /// (without the nested padding columns that `ulog csv` keeps).
@@ -55,8 +72,8 @@ pub struct Args {
     /// in none of the logs is an error at the end.
     #[arg(short = 'm', long = "messages", value_name = "TOPICS")]
     messages: Option<String>,
-    /// Compression of the Parquet files.
-    #[arg(long, value_enum, default_value = "snappy", value_name = "CODEC")]
+    /// Compression of the Parquet files (zstd: the smallest files, for keeping).
+    #[arg(long, value_enum, default_value = "zstd", value_name = "CODEC")]
     compression: Codec,
     /// Add a column `timestamp_utc` after `timestamp` (Arrow/Parquet timestamp, UTC,
     /// microseconds) from the log's GPS time or its `boot_time_utc_us` (`ulog info`
@@ -84,6 +101,7 @@ enum Codec {
 /// One log to convert.
 struct Job {
     input: PathBuf,
+    /// Its folder (`--per-log`).
     out: PathBuf,
     size: u64,
 }
@@ -104,6 +122,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .map(str::to_owned)
             .collect()
     });
+    let available = input::threads(args.jobs);
     let options = Options {
         flatten: args.flatten,
         topics: names.clone(),
@@ -112,25 +131,38 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             Codec::Zstd => Compression::Zstd,
             Codec::None => Compression::Uncompressed,
         },
+        threads: if jobs.len() == 1 { available } else { 1 },
         ..Options::default()
     };
     // With one log, names it lacks are an error and nothing is left written; with
     // many, each log exports the names it has.
     let strict = jobs.len() == 1;
+    // Where the logs go: one dataset, or (`--per-log`) each to its folder.
+    let dataset = if args.per_log {
+        None
+    } else {
+        let dir = dataset_dir(args, &jobs)?;
+        let dataset =
+            Dataset::open(&dir, &options).map_err(|e| failure(&dir.display().to_string(), &e))?;
+        Some(dataset)
+    };
 
     let total: u64 = jobs.iter().map(|j| j.size).sum();
     let progress = Progress::bytes(total, "parquet");
-    let available = input::threads(args.jobs);
-    let options = Options {
-        threads: if jobs.len() == 1 { available } else { 1 },
-        ..options
-    };
     let stdout = Mutex::new(io::stdout());
     // Largest logs first, so that the threads end together; a log that fails does not
     // stop the others (its failure is its result).
     let sizes: Vec<u64> = jobs.iter().map(|j| j.size).collect();
     let results = ulog_core::parallel::largest_first(&sizes, available, |i| {
-        let result = convert(&jobs[i], &options, args.utc, strict, &progress, &stdout);
+        let result = convert(
+            &jobs[i],
+            dataset.as_ref(),
+            &options,
+            args.utc,
+            strict,
+            &progress,
+            &stdout,
+        );
         if let Err(Failure::Message(_, m)) = &result {
             if !strict {
                 progress.suspend(|| {
@@ -141,11 +173,30 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Ok::<_, core::convert::Infallible>(result)
     });
     drop(progress);
-    io::stdout().flush().map_err(stdout_err)?;
     let results: Vec<Option<Result<Done, Failure>>> = results
         .into_iter()
         .map(|r| r.map(|r| r.unwrap_or_else(|e| match e {})))
         .collect();
+    if let Some(dataset) = dataset {
+        let dir = dataset.dir().to_owned();
+        let logs = dataset.len();
+        dataset
+            .finish()
+            .map_err(|e| failure(&dir.display().to_string(), &e))?;
+        let mut out = io::stdout().lock();
+        writeln!(
+            out,
+            "Writing {} ({}, {}, {}, {}: {logs} log{})",
+            dir.display(),
+            export::LOGS_FILE,
+            export::PARAMETERS_FILE,
+            export::MESSAGES_FILE,
+            export::FORMATS_FILE,
+            if logs == 1 { "" } else { "s" }
+        )
+        .map_err(stdout_err)?;
+    }
+    io::stdout().flush().map_err(stdout_err)?;
     let mut found = BTreeSet::new();
     let mut suggestion = None;
     let mut failures = Vec::new();
@@ -185,9 +236,25 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The logs named on the command line (directories expanded), each with its output
-/// folder. Missing inputs and two logs writing to one folder are errors before any
-/// work.
+/// The dataset's folder: `-o`, or with one log `<stem>/` beside it.
+fn dataset_dir(args: &Args, jobs: &[Job]) -> Result<PathBuf, Failure> {
+    match (&args.output, jobs) {
+        (Some(dir), _) => Ok(dir.clone()),
+        (None, [job]) => Ok(job.out.clone()),
+        (None, _) => Err(Failure::about(
+            "parquet",
+            format!(
+                "{} logs make one dataset: name its folder with -o DATASET \
+                 (or use --per-log for a folder per log)",
+                jobs.len()
+            ),
+        )),
+    }
+}
+
+/// The logs named on the command line (directories searched, subdirectories too),
+/// each with its `--per-log` folder. Missing inputs, and with `--per-log` two logs
+/// writing to one folder, are errors before any work.
 fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
     let mut files = Vec::new();
     for input in &args.inputs {
@@ -198,25 +265,12 @@ fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
             files.push((input.clone(), meta.len()));
             continue;
         }
-        let entries =
-            std::fs::read_dir(input).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
         let mut logs = Vec::new();
-        for entry in entries {
-            let entry = entry.map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-            let path = entry.path();
-            if !input::is_log_name(&path) {
-                continue;
-            }
-            let meta = std::fs::metadata(&path)
-                .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
-            if meta.is_file() {
-                logs.push((path, meta.len()));
-            }
-        }
+        find_logs(input, &mut logs)?;
         if logs.is_empty() {
             return Err(Failure::unreadable(
                 &shown,
-                "no .ulg or .ulog files in this directory",
+                "no .ulg or .ulog files in this directory or its subdirectories",
             ));
         }
         logs.sort();
@@ -225,20 +279,49 @@ fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
     let mut jobs: Vec<Job> = Vec::with_capacity(files.len());
     let mut outs = std::collections::HashMap::new();
     for (input, size) in files {
-        let out = output_dir(&input, args.output.as_deref());
-        if let Some(other) = outs.insert(out.clone(), input.clone()) {
-            return Err(Failure::about(
-                out.display(),
-                format!(
-                    "both {} and {} would be written here",
-                    other.display(),
-                    input.display()
-                ),
-            ));
+        let out = output_dir(&input, args.output.as_deref().filter(|_| args.per_log));
+        if args.per_log {
+            if let Some(other) = outs.insert(out.clone(), input.clone()) {
+                return Err(Failure::about(
+                    out.display(),
+                    format!(
+                        "both {} and {} would be written here",
+                        other.display(),
+                        input.display()
+                    ),
+                ));
+            }
         }
         jobs.push(Job { input, out, size });
     }
     Ok(jobs)
+}
+
+/// The logs in `dir` and its subdirectories (not those behind a symbolic link to a
+/// directory, which could loop), with their sizes.
+fn find_logs(dir: &Path, logs: &mut Vec<(PathBuf, u64)>) -> Result<(), Failure> {
+    let shown = dir.display();
+    let entries = std::fs::read_dir(dir).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+        let path = entry.path();
+        let kind = entry
+            .file_type()
+            .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
+        if kind.is_dir() {
+            find_logs(&path, logs)?;
+            continue;
+        }
+        if !input::is_log_name(&path) {
+            continue;
+        }
+        let meta = std::fs::metadata(&path)
+            .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
+        if meta.is_file() {
+            logs.push((path, meta.len()));
+        }
+    }
+    Ok(())
 }
 
 /// `DIR/<stem>` or, without `-o`, `<stem>` beside the log; the stem is the file name
@@ -262,6 +345,7 @@ fn output_dir(input: &Path, dir: Option<&Path>) -> PathBuf {
 /// Converts one log, advancing `progress` by its size, and prints what was written.
 fn convert(
     job: &Job,
+    dataset: Option<&Dataset>,
     options: &Options,
     utc: bool,
     strict: bool,
@@ -281,16 +365,40 @@ fn convert(
             found: Vec::new(),
             suggestion: None,
         };
-        let source = ulog_core::Source::file(&job.input);
-        let export = export::write_parquet_with(source, &job.out, &options, |read| {
+        let advance = |read: u64| {
             let read = read.min(job.size);
             if read > advanced {
                 progress.inc(read - advanced);
                 advanced = read;
             }
-        });
-        let export = match export {
-            Ok(export) => export,
+        };
+        let export = match dataset {
+            None => {
+                let source = ulog_core::Source::file(&job.input);
+                export::write_parquet_with(source, &job.out, &options, advance)
+                    .map(|e| (Some(e), None))
+            }
+            Some(dataset) => dataset
+                .add(&job.input, options.utc.clone(), advance)
+                .map(|added| match added {
+                    Added::Written { log_id, export } => (Some(export), Some(log_id)),
+                    Added::Present { log_id } => (None, Some(log_id)),
+                    _ => (None, None),
+                }),
+        };
+        let (export, log_id) = match export {
+            Ok((Some(export), log_id)) => (export, log_id),
+            Ok((None, log_id)) => {
+                // Its topics are those it was added with: not said again.
+                done.found = options.topics.clone().unwrap_or_default();
+                let id = log_id.unwrap_or_default();
+                progress.suspend(|| {
+                    let mut out = stdout.lock().expect("no thread panicked holding it");
+                    writeln!(out, "Skipping {name}: the dataset has it already ({id})")
+                        .map_err(stdout_err)
+                })?;
+                return Ok(done);
+            }
             Err(e) => {
                 if let ExportErrorKind::Lookup(LookupError::Topic(t)) = e.kind() {
                     done.suggestion = t.closest.first().cloned();
@@ -325,6 +433,8 @@ fn convert(
                 .collect();
         }
         let rows: usize = export.files.iter().map(|w| w.rows).sum();
+        let files = export.files.len();
+        let plural = if files == 1 { "" } else { "s" };
         progress.suspend(|| -> Result<(), Failure> {
             let mut err = io::stderr();
             for s in &export.skipped {
@@ -335,14 +445,18 @@ fn convert(
                 );
             }
             let mut out = stdout.lock().expect("no thread panicked holding it");
-            writeln!(
-                out,
-                "Writing {} ({} Parquet file{}, {rows} rows, {})",
-                job.out.display(),
-                export.files.len(),
-                if export.files.len() == 1 { "" } else { "s" },
-                export::METADATA_FILE
-            )
+            match log_id {
+                Some(id) => writeln!(
+                    out,
+                    "Adding {name} as {id} ({files} Parquet file{plural}, {rows} rows)"
+                ),
+                _ => writeln!(
+                    out,
+                    "Writing {} ({files} Parquet file{plural}, {rows} rows, {})",
+                    job.out.display(),
+                    export::METADATA_FILE
+                ),
+            }
             .map_err(stdout_err)
         })?;
         Ok(done)

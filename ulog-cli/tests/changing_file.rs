@@ -100,6 +100,7 @@ fn every_command_survives_a_file_changing_under_it() {
         ],
         vec![
             "parquet".into(),
+            "--per-log".into(),
             "-o".into(),
             out.display().to_string(),
             "-q".into(),

@@ -113,6 +113,7 @@ fn info_keys_with_spaces_show_their_values_as_text() {
     let out = file.with_file_name("parquet");
     common::ulog_ok([
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         file.as_os_str(),
         "-o".as_ref(),
         out.as_os_str(),

@@ -27,6 +27,7 @@ fn parquet_takes_ulog_files_from_a_directory_and_names_them_as_ulg() {
     let out = root.join("out");
     common::ulog_ok([
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         logs.as_os_str(),
         "-o".as_ref(),
         out.as_os_str(),
@@ -43,7 +44,11 @@ fn parquet_takes_ulog_files_from_a_directory_and_names_them_as_ulg() {
     std::fs::create_dir_all(&single).unwrap();
     for name in ["x.ulg", "y.ulog"] {
         std::fs::write(single.join(name), &sample).unwrap();
-        common::ulog_ok(["parquet".as_ref(), single.join(name).as_os_str()]);
+        common::ulog_ok([
+            "parquet".as_ref(),
+            "--per-log".as_ref(),
+            single.join(name).as_os_str(),
+        ]);
     }
     assert_eq!(
         names(&single),

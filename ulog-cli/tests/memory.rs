@@ -128,7 +128,7 @@ fn check_and_parquet(test: &str, bytes: &[u8], parquet_args: &[&[&str]]) {
     run_limited(&log, &["check", log_arg], &[0, 1]);
     for (i, extra) in parquet_args.iter().enumerate() {
         let out = dir.join(format!("out{i}"));
-        let mut args = vec!["parquet", log_arg, "-o", out.to_str().unwrap()];
+        let mut args = vec!["parquet", "--per-log", log_arg, "-o", out.to_str().unwrap()];
         args.extend_from_slice(extra);
         run_limited(&log, &args, &[0]);
     }

@@ -196,6 +196,7 @@ fn dump_check_and_the_parquet_metadata_show_the_events() {
         let dir = common::scratch(&format!("events_parquet_{stem}"));
         common::ulog_ok([
             "parquet".as_ref(),
+            "--per-log".as_ref(),
             path.as_os_str(),
             "-o".as_ref(),
             dir.as_os_str(),

@@ -32,7 +32,7 @@ fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
 #[test]
 fn writes_beside_the_log_by_default() {
     let log = common::sample_file("parquet_default_dir");
-    let stdout = common::ulog_ok(["parquet".as_ref(), log.as_os_str()]);
+    let stdout = common::ulog_ok(["parquet".as_ref(), "--per-log".as_ref(), log.as_os_str()]);
     let dir = log.with_file_name("sample");
     assert!(
         stdout.contains(&format!("Writing {}", dir.display())),
@@ -58,19 +58,24 @@ fn failures_are_one_line_with_distinct_statuses() {
     let dir = log.parent().unwrap().to_owned();
 
     let missing = dir.join("missing.ulg");
-    let out = common::ulog(["parquet".as_ref(), missing.as_os_str()]);
+    let out = common::ulog([
+        "parquet".as_ref(),
+        "--per-log".as_ref(),
+        missing.as_os_str(),
+    ]);
     assert_eq!(out.status.code(), Some(3));
     assert!(stderr_line(&out).contains("missing.ulg: no such file"));
 
     let text = dir.join("text.ulg");
     std::fs::write(&text, "not a log").unwrap();
-    let out = common::ulog(["parquet".as_ref(), text.as_os_str()]);
+    let out = common::ulog(["parquet".as_ref(), "--per-log".as_ref(), text.as_os_str()]);
     assert_eq!(out.status.code(), Some(4));
     assert!(stderr_line(&out).contains("not a ULog file"));
 
     let out_dir = dir.join("out");
     let out = common::ulog([
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         log.as_os_str(),
         "-o".as_ref(),
         out_dir.as_os_str(),
@@ -85,7 +90,7 @@ fn failures_are_one_line_with_distinct_statuses() {
 
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    let out = common::ulog(["parquet".as_ref(), empty.as_os_str()]);
+    let out = common::ulog(["parquet".as_ref(), "--per-log".as_ref(), empty.as_os_str()]);
     assert_eq!(out.status.code(), Some(3));
     assert!(stderr_line(&out).contains("no .ulg or .ulog files"));
 
@@ -110,6 +115,7 @@ fn a_directory_of_logs_converts_in_one_call_in_parallel_or_not() {
         let out_dir = root.join(format!("out{jobs}"));
         let out = common::ulog([
             "parquet".as_ref(),
+            "--per-log".as_ref(),
             logs.as_os_str(),
             "-o".as_ref(),
             out_dir.as_os_str(),
@@ -148,6 +154,7 @@ fn a_directory_of_logs_converts_in_one_call_in_parallel_or_not() {
     let out_dir = root.join("filtered");
     let out = common::ulog([
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         logs.as_os_str(),
         "-o".as_ref(),
         out_dir.as_os_str(),
@@ -179,6 +186,7 @@ fn a_directory_of_logs_converts_in_one_call_in_parallel_or_not() {
     let out_dir = root.join("clash");
     let out = common::ulog([
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         logs.as_os_str(),
         other.as_os_str(),
         "-o".as_ref(),
@@ -203,6 +211,7 @@ fn each_codec_is_what_the_files_say_and_the_values_are_the_same() {
         let out_dir = root.join(codec);
         common::ulog_ok([
             "parquet".as_ref(),
+            "--per-log".as_ref(),
             log.as_os_str(),
             "-o".as_ref(),
             out_dir.as_os_str(),

@@ -208,6 +208,7 @@ fn check_corpus(test: &str, flatten: bool) {
     let files = corpus.join("files");
     let mut args = vec![
         "parquet".as_ref(),
+        "--per-log".as_ref(),
         files.as_os_str(),
         "-o".as_ref(),
         out.as_os_str(),

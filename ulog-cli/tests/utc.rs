@@ -222,6 +222,7 @@ fn utc_without_a_time_in_the_log_is_an_error_of_every_command() {
         ],
         vec![
             "parquet".as_ref(),
+            "--per-log".as_ref(),
             "--utc".as_ref(),
             file.as_os_str(),
             "-o".as_ref(),

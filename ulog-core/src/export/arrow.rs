@@ -15,7 +15,7 @@ use arrow_array::types::{
 };
 use arrow_array::{
     ArrayRef, ArrowPrimitiveType, BooleanArray, FixedSizeListArray, PrimitiveArray, RecordBatch,
-    RecordBatchOptions, StructArray, TimestampMicrosecondArray,
+    RecordBatchOptions, StringArray, StructArray, TimestampMicrosecondArray, UInt8Array,
 };
 use arrow_schema::{DataType, Field, Fields, Schema, SchemaRef, TimeUnit};
 use ulog_format::{BasicType, LayoutField, LayoutType};
@@ -54,6 +54,10 @@ enum Node {
     /// The UTC time of the `uint64_t` timestamp at `offset`, `boot_us` microseconds
     /// since the Unix epoch at timestamp 0.
     Utc { offset: usize, boot_us: i64 },
+    /// The same text in every row (a dataset's `log_id`).
+    SameText(Arc<str>),
+    /// The same byte in every row (a dataset's `multi_id`).
+    SameByte(u8),
 }
 
 impl Node {
@@ -67,6 +71,8 @@ impl Node {
             }
             Node::Struct { fields, .. } => DataType::Struct(fields.clone()),
             Node::Utc { .. } => DataType::Timestamp(TimeUnit::Microsecond, Some("UTC".into())),
+            Node::SameText(_) => DataType::Utf8,
+            Node::SameByte(_) => DataType::UInt8,
         }
     }
 
@@ -75,6 +81,7 @@ impl Node {
         match self {
             Node::Value { ty, offset } => offset + ty.size(),
             Node::Utc { offset, .. } => offset + 8,
+            Node::SameText(_) | Node::SameByte(_) => 0,
             Node::Text { offset, len } => offset + len,
             Node::List {
                 offset,
@@ -278,13 +285,23 @@ impl TopicTable {
                 columns.insert(at + 1, node);
             }
         }
+        if let Some(log_id) = &options.log_id {
+            // First, so that a dataset's rows say whose they are before what they hold.
+            fields.insert(0, Arc::new(Field::new("log_id", DataType::Utf8, false)));
+            columns.insert(0, Node::SameText(Arc::from(log_id.as_str())));
+            fields.insert(1, Arc::new(Field::new("multi_id", DataType::UInt8, false)));
+            columns.insert(1, Node::SameByte(topic.multi_id()));
+        }
         let fields = Fields::from(fields);
         let formats: Vec<String> = layout.formats().iter().map(|f| f.to_string()).collect();
         let mut metadata = HashMap::from([
             ("ulog.topic".to_owned(), topic.name().to_owned()),
-            ("ulog.multi_id".to_owned(), topic.multi_id().to_string()),
             ("ulog.format".to_owned(), formats.join("\n")),
         ]);
+        // With `multi_id` a column, the instances of a topic share one schema (and file).
+        if options.log_id.is_none() {
+            metadata.insert("ulog.multi_id".to_owned(), topic.multi_id().to_string());
+        }
         // Units in the schema's metadata, one key per field (indices left out: every
         // element of an array has its unit): a field's metadata keeps one entry, as
         // Arrow writes those in hash order.
@@ -407,6 +424,10 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
             }))
             .with_timezone("UTC"),
         ),
+        Node::SameText(text) => Arc::new(StringArray::from_iter_values(
+            std::iter::repeat(&**text).take(bases.len()),
+        )),
+        Node::SameByte(byte) => Arc::new(UInt8Array::from_value(*byte, bases.len())),
     })
 }
 

@@ -36,6 +36,12 @@ pub enum ExportErrorKind {
     /// Arrow or Parquet refused the data (its error is the
     /// [`source`](std::error::Error::source)).
     Encoding,
+    /// A table of a [`Dataset`](super::Dataset) cannot be read back (the error's
+    /// [`path`](ExportError::path) names it).
+    Dataset {
+        /// What is wrong with it.
+        what: String,
+    },
 }
 
 /// An export that failed: what, the file it was writing when there is one, and where
@@ -157,6 +163,9 @@ impl fmt::Display for ExportError {
             (ExportErrorKind::Encoding, None) => write!(f, "Arrow or Parquet refused the data"),
             (ExportErrorKind::Read, None) => write!(f, "the log could not be read"),
             (ExportErrorKind::Lookup(e), _) => write!(f, "{e}"),
+            (ExportErrorKind::Dataset { what }, _) => {
+                write!(f, "a table of the dataset cannot be read back: {what}")
+            }
             (ExportErrorKind::NoValues { topic }, _) => {
                 write!(f, "topic `{topic}` has no field with values")
             }

@@ -12,6 +12,7 @@ use parquet::file::metadata::KeyValue;
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 
 use super::error::{ExportError, ExportErrorKind};
+use super::stream::Layout;
 use crate::access::topic::Topic;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
@@ -57,7 +58,8 @@ pub struct Export {
     /// The names of [`Options::topics`] the log does not have (with
     /// [`Options::skip_missing_topics`]; otherwise such a name is an error).
     pub missing_topics: Vec<LookupError>,
-    /// The metadata file.
+    /// The metadata file (of a [`Dataset`](super::Dataset): its table of logs,
+    /// written by [`Dataset::finish`](super::Dataset::finish)).
     pub metadata: PathBuf,
 }
 
@@ -98,7 +100,7 @@ pub fn write_parquet<'s>(
     dir: &Path,
     options: &Options,
 ) -> Result<Export> {
-    super::stream::export(source.into(), dir, options, |_| {})
+    super::stream::export(source.into(), dir, options, Layout::Log, |_| {}).map(|(e, _)| e)
 }
 
 /// [`write_parquet`], calling `progress` with the byte offset in the log that the pass
@@ -110,7 +112,7 @@ pub fn write_parquet_with<'s>(
     options: &Options,
     progress: impl FnMut(u64),
 ) -> Result<Export> {
-    super::stream::export(source.into(), dir, options, progress)
+    super::stream::export(source.into(), dir, options, Layout::Log, progress).map(|(e, _)| e)
 }
 
 /// Writes the rows of one topic instance to a Parquet file at `path` (replaced if it
@@ -218,11 +220,7 @@ fn write_table(
 /// and, for wide tables, no dictionaries and chunk statistics only.
 pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterProperties {
     let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
-    let compression = match options.compression {
-        Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
-        Compression::Snappy => ParquetCompression::SNAPPY,
-        Compression::Zstd => ParquetCompression::ZSTD(Default::default()),
-    };
+    let compression = compression_of(options.compression);
     let mut metadata: Vec<KeyValue> = table
         .schema
         .metadata()
@@ -244,6 +242,15 @@ pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterPropert
             EnabledStatistics::Chunk
         })
         .build()
+}
+
+/// The Parquet codec of a [`Compression`].
+pub(super) fn compression_of(compression: Compression) -> ParquetCompression {
+    match compression {
+        Compression::Uncompressed => ParquetCompression::UNCOMPRESSED,
+        Compression::Snappy => ParquetCompression::SNAPPY,
+        Compression::Zstd => ParquetCompression::ZSTD(Default::default()),
+    }
 }
 
 /// A Parquet error: an I/O error about `path`, or an export error.

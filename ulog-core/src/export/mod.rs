@@ -10,6 +10,11 @@
 //! a [`METADATA_FILE`] (`metadata.json`, see [`metadata_json`]) with the log's
 //! information, parameters, logged messages, dropouts and findings.
 //!
+//! A [`Dataset`] holds any number of logs in one folder that query engines read across
+//! logs in one statement: `<topic>/<log_id>.parquet` per topic and log (the same
+//! columns, with `log_id` and `multi_id` first) and four tables of what the logs are
+//! ([`LOGS_FILE`], [`PARAMETERS_FILE`], [`MESSAGES_FILE`], [`FORMATS_FILE`]).
+//!
 //! # Columns
 //!
 //! Columns have the log's types: `uint8_t`…`uint64_t` are `UInt8`…`UInt64`, `int8_t`…
@@ -55,6 +60,7 @@
 //! ```
 
 mod arrow;
+mod dataset;
 mod error;
 mod files;
 mod lazy_file;
@@ -71,6 +77,7 @@ pub use parquet;
 use arrow_array::RecordBatch;
 use arrow_schema::SchemaRef;
 
+pub use dataset::{Added, Dataset, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE};
 pub use files::{write_parquet, write_parquet_with, write_topic, Export, Skipped, Written};
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
 
@@ -133,6 +140,11 @@ pub struct Options {
     /// Arrow `Timestamp(Microsecond, "UTC")`, with field metadata `ulog.utc_source`
     /// saying where the time comes from.
     pub utc: Option<UtcClock>,
+    /// Add columns `log_id` (this text, in every row) and `multi_id` (the topic's
+    /// instance, `UInt8`) before the fields, as the files of a [`Dataset`] have them;
+    /// the schema's metadata then has no `ulog.multi_id`, so the instances of a topic
+    /// share one schema.
+    pub log_id: Option<String>,
 }
 
 impl Default for Options {
@@ -147,6 +159,7 @@ impl Default for Options {
             buffer_bytes: 32 << 20,
             skip_missing_topics: false,
             utc: None,
+            log_id: None,
         }
     }
 }

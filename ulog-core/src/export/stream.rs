@@ -9,6 +9,7 @@
 //! topic's row groups are written in the order they were cut, whichever thread
 //! encodes them, so the files do not depend on the number of threads.
 
+use std::collections::HashMap;
 use std::fs::File;
 use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -21,10 +22,12 @@ use crate::bytes::{HEADER_SIZE, MAGIC};
 use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 use crate::log::ulog::ULog;
+use crate::log::utc::{GpsTime, UtcSamples};
 use crate::pass::driver::{Hand, Kept};
 use crate::pass::source::{drive_keeping, Source};
 
 use super::arrow::TopicTable;
+use super::dataset::LogTables;
 use super::error::{ExportError, ExportErrorKind};
 use super::files::{
     leaves, properties, write_error, Export, Skipped, Written, ROW_GROUP_BYTES, WIDE_LEAVES,
@@ -47,8 +50,9 @@ const MIN_GROUP_BYTES: usize = 4 << 20;
 /// Bytes of the log framed between two calls of the progress callback.
 const PROGRESS_STEP: u64 = 8 << 20;
 
-/// A topic instance's Parquet file, written one row group at a time in the order the
-/// groups were cut (`next`: the number of the group whose turn it is).
+/// A topic instance's Parquet file (in a dataset, a topic's: its instances share
+/// it), written one row group at a time in the order the groups were cut (`next`: the
+/// number of the group whose turn it is).
 struct TopicFile {
     /// Where it is written until the export is done.
     partial: PathBuf,
@@ -57,6 +61,8 @@ struct TopicFile {
     shown: PathBuf,
     state: Mutex<FileState>,
     turn: Condvar,
+    /// Row groups cut for it so far (by the pass, or after it for wide tables).
+    cut: std::sync::atomic::AtomicU64,
 }
 
 struct FileState {
@@ -107,8 +113,16 @@ struct Open {
     wide: bool,
     /// Bytes of a full row group.
     group_bytes: usize,
-    /// Row groups cut so far.
-    groups: u64,
+}
+
+/// Where the pass writes.
+pub(super) enum Layout<'a> {
+    /// A log's folder: `<topic>_<multi_id>.parquet` per topic instance and
+    /// [`METADATA_FILE`].
+    Log,
+    /// A dataset: `<topic>/<log_id>.parquet` per topic ([`Options::log_id`]), its
+    /// instances in one file; the log's own tables are returned, not written.
+    Dataset(&'a super::dataset::Origin),
 }
 
 /// Writes the log of `source` to `dir` (see [`super::write_parquet`]).
@@ -116,8 +130,13 @@ pub(super) fn export(
     source: Source<'_>,
     dir: &Path,
     options: &Options,
+    layout: Layout<'_>,
     mut progress: impl FnMut(u64),
-) -> Result<Export> {
+) -> Result<(Export, Option<LogTables>)> {
+    let dataset = match layout {
+        Layout::Dataset(about) => Some(about),
+        Layout::Log => None,
+    };
     // The folders this export makes, innermost first: removed again after an error.
     let made: Vec<PathBuf> = dir
         .ancestors()
@@ -139,6 +158,11 @@ pub(super) fn export(
     };
 
     let mut slots: Vec<Slot> = Vec::new();
+    // A dataset's files, by topic name (its instances share one).
+    let mut files: HashMap<String, Arc<TopicFile>> = HashMap::new();
+    // The GPS times, for the dataset's UTC start.
+    let mut gps = UtcSamples::default();
+    let mut gps_times: Vec<Option<GpsTime>> = Vec::new();
     let mut clocks: Vec<Unwrapper> = Vec::new();
     let mut rows: Vec<usize> = Vec::new();
     let mut skipped = Vec::new();
@@ -200,11 +224,10 @@ pub(super) fn export(
             let Some(table) = &slot.table else {
                 return;
             };
-            slot.groups += 1;
             hand(Group {
                 table: table.clone(),
                 file: slot.file.clone(),
-                number: slot.groups - 1,
+                number: slot.file.cut.fetch_add(1, Ordering::Relaxed),
                 rows,
             });
         };
@@ -224,10 +247,21 @@ pub(super) fn export(
                 slots.resize_with(i + 1, || Slot::Unseen);
                 clocks.resize_with(i + 1, || Unwrapper::new(None));
                 rows.resize(i + 1, 0);
+                gps_times.resize(i + 1, None);
             }
             if matches!(slots[i], Slot::Unseen) {
                 clocks[i] = Unwrapper::new(r.topic.timestamp_field());
-                slots[i] = open(r.topic, dir, options, &mut skipped);
+                if dataset.is_some() {
+                    gps_times[i] = gps.gps_time(r.topic);
+                }
+                slots[i] = open(
+                    r.topic,
+                    dir,
+                    options,
+                    dataset.is_some(),
+                    &mut files,
+                    &mut skipped,
+                );
                 if cfg!(feature = "events") && r.topic.name() == "event" && r.topic.multi_id() == 0
                 {
                     event_topic = Some(i);
@@ -235,6 +269,9 @@ pub(super) fn export(
             }
             rows[i] += 1;
             let time = clocks[i].push(r.payload);
+            if let (Some(at), Some(t)) = (gps_times[i], time) {
+                gps.push(at, r.payload, t);
+            }
             if let Some(t) = time {
                 if t > last {
                     last = t;
@@ -323,7 +360,10 @@ pub(super) fn export(
         })
         .collect();
     let mut opened = opened;
-    let metadata = dir.join(METADATA_FILE);
+    let metadata = match dataset {
+        Some(_) => dir.join(super::LOGS_FILE),
+        None => dir.join(METADATA_FILE),
+    };
     let metadata_partial = dir.join(format!("{METADATA_FILE}.partial"));
     let done = (|| {
         let (summary, kept) = scanned.map_err(ExportError::read)?;
@@ -365,30 +405,48 @@ pub(super) fn export(
             #[cfg(feature = "events")]
             events: events.as_ref(),
         };
-        std::fs::write(&metadata_partial, json(&log, &facts))
-            .map_err(|e| ExportError::io(e, &metadata))?;
-        let files = rename(&opened, &rows, dir)?;
-        if let Err(e) = std::fs::rename(&metadata_partial, &metadata) {
-            for done in &files {
-                let _ = std::fs::remove_file(&done.path);
+        let tables = match dataset {
+            Some(about) => {
+                let utc = std::mem::take(&mut gps).clock(&log);
+                Some(LogTables::new(&log, &facts, about, utc)?)
             }
-            return Err(ExportError::io(e, &metadata));
+            None => {
+                std::fs::write(&metadata_partial, json(&log, &facts))
+                    .map_err(|e| ExportError::io(e, &metadata))?;
+                None
+            }
+        };
+        let files = rename(&opened, &rows, dir, dataset.is_some())?;
+        if dataset.is_none() {
+            if let Err(e) = std::fs::rename(&metadata_partial, &metadata) {
+                for done in &files {
+                    let _ = std::fs::remove_file(&done.path);
+                }
+                return Err(ExportError::io(e, &metadata));
+            }
         }
         skipped.sort_by(|a: &Skipped, b: &Skipped| {
             (&a.topic, a.multi_id).cmp(&(&b.topic, b.multi_id))
         });
-        Ok(Export {
+        let export = Export {
             files,
             skipped: std::mem::take(&mut skipped),
             missing_topics: missing,
             metadata,
-        })
+        };
+        Ok((export, tables))
     })();
     if done.is_err() {
         let _ = std::fs::remove_file(&metadata_partial);
         for slot in &opened {
             let _ = std::fs::remove_file(&slot.file.partial);
             let _ = std::fs::remove_file(&slot.spill.path);
+        }
+        for file in files.values() {
+            if let Some(folder) = file.partial.parent() {
+                // Only when no other log's file is in it.
+                let _ = std::fs::remove_dir(folder);
+            }
         }
         for folder in &made {
             // Only when nothing else came into it meanwhile.
@@ -398,8 +456,16 @@ pub(super) fn export(
     done
 }
 
-/// What the pass does with a topic instance met for the first time.
-fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Skipped>) -> Slot {
+/// What the pass does with a topic instance met for the first time; in a dataset
+/// (`dataset`), its file is that of its topic in `files`, made on first use.
+fn open(
+    sub: &Subscription,
+    dir: &Path,
+    options: &Options,
+    dataset: bool,
+    files: &mut HashMap<String, Arc<TopicFile>>,
+    skipped: &mut Vec<Skipped>,
+) -> Slot {
     if let Some(names) = &options.topics {
         if !names.iter().any(|n| n == sub.name()) {
             return Slot::Unselected;
@@ -430,37 +496,57 @@ fn open(sub: &Subscription, dir: &Path, options: &Options, skipped: &mut Vec<Ski
     let group_rows = options
         .row_group_rows
         .clamp(1, (ROW_GROUP_BYTES / row_size).max(1));
-    let partial = dir.join(format!(
-        "{}.{}.partial",
-        name_of(sub.name(), sub.multi_id()),
-        sub.index()
-    ));
-    Slot::Open(Box::new(Open {
-        sub: sub.clone(),
-        group_bytes: group_rows * table.needed().max(1),
-        needed: table.needed(),
-        table: (!wide).then(|| Arc::new(table)),
-        file: Arc::new(TopicFile {
-            partial,
-            shown: dir.join(name_of(sub.name(), sub.multi_id())),
+    // A dataset's files: `<topic>/<log_id>.parquet`; a log's: `<topic>_<multi_id>.parquet`.
+    let (folder, stem) = match (&options.log_id, dataset) {
+        (Some(log_id), true) => (dir.join(sub.name().replace('/', "_")), log_id.clone()),
+        _ => (
+            dir.to_owned(),
+            name_of(sub.name(), sub.multi_id())
+                .trim_end_matches(".parquet")
+                .to_owned(),
+        ),
+    };
+    let new_file = || {
+        Arc::new(TopicFile {
+            partial: folder.join(format!("{stem}.parquet.{}.partial", sub.index())),
+            shown: folder.join(format!("{stem}.parquet")),
             state: Mutex::new(FileState {
                 writer: None,
                 next: 0,
             }),
             turn: Condvar::new(),
-        }),
+            cut: Default::default(),
+        })
+    };
+    let file = if dataset {
+        if let Err(error) = std::fs::create_dir_all(&folder) {
+            skipped.push(Skipped {
+                topic: sub.name().to_owned(),
+                multi_id: sub.multi_id(),
+                error: ExportError::io(error, &folder),
+            });
+            return Slot::Skipped;
+        }
+        files
+            .entry(sub.name().to_owned())
+            .or_insert_with(new_file)
+            .clone()
+    } else {
+        new_file()
+    };
+    Slot::Open(Box::new(Open {
+        sub: sub.clone(),
+        group_bytes: group_rows * table.needed().max(1),
+        needed: table.needed(),
+        table: (!wide).then(|| Arc::new(table)),
+        file,
         buffer: Vec::new(),
         spill: Spill {
-            path: dir.join(format!(
-                "{}.{}.rows.partial",
-                name_of(sub.name(), sub.multi_id()),
-                sub.index()
-            )),
+            path: folder.join(format!("{stem}.{}.rows.partial", sub.index())),
             file: None,
             bytes: 0,
         },
         wide,
-        groups: 0,
     }))
 }
 
@@ -577,8 +663,9 @@ fn missing_topics(log: &ULog<'_>, options: &Options) -> Result<Vec<LookupError>>
 
 /// Gives the files their names (sorted by topic name and instance; a second
 /// subscription of one name and instance gets its msg_id in its name); `rows` is each
-/// subscription's rows.
-fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path) -> Result<Vec<Written>> {
+/// subscription's rows. In a dataset (`dataset`), a topic's instances share their file,
+/// which is named once and counts the rows of all.
+fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path, dataset: bool) -> Result<Vec<Written>> {
     let mut order: Vec<&Open> = opened.iter().map(|o| &**o).collect();
     fn key(o: &Open) -> (&str, u8, usize) {
         (o.sub.name(), o.sub.multi_id(), o.sub.index())
@@ -587,16 +674,28 @@ fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path) -> Result<Vec<Writte
     let mut names = std::collections::HashSet::new();
     let mut files: Vec<Written> = Vec::with_capacity(order.len());
     for slot in order {
-        let mut name = name_of(slot.sub.name(), slot.sub.multi_id());
-        if !names.insert(name.clone()) {
-            name = format!(
-                "{}_msg{}.parquet",
-                name.trim_end_matches(".parquet"),
-                slot.sub.msg_id()
-            );
-            names.insert(name.clone());
+        if dataset {
+            if let Some(last) = files.last_mut() {
+                if last.path == slot.file.shown {
+                    last.rows += rows[slot.sub.index()];
+                    continue;
+                }
+            }
         }
-        let path = dir.join(name);
+        let path = if dataset {
+            slot.file.shown.clone()
+        } else {
+            let mut name = name_of(slot.sub.name(), slot.sub.multi_id());
+            if !names.insert(name.clone()) {
+                name = format!(
+                    "{}_msg{}.parquet",
+                    name.trim_end_matches(".parquet"),
+                    slot.sub.msg_id()
+                );
+                names.insert(name.clone());
+            }
+            dir.join(name)
+        };
         if let Err(e) = std::fs::rename(&slot.file.partial, &path) {
             // None of this export's files is left.
             for done in &files {
@@ -677,12 +776,11 @@ fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
             file.read_exact(&mut rows)
                 .map_err(|e| ExportError::io(e, &path))?;
             left -= rows.len();
-            slot.groups += 1;
             write_group(
                 Group {
                     table: table.clone(),
                     file: slot.file.clone(),
-                    number: slot.groups - 1,
+                    number: slot.file.cut.fetch_add(1, Ordering::Relaxed),
                     rows,
                 },
                 options,

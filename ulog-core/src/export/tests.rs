@@ -914,3 +914,159 @@ fn metadata_of_the_one_pass_export_is_the_parsed_logs_with_the_times_of_the_data
     assert_eq!(json["dropouts"][0]["timestamp"], 250);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A log with topic `a` in two instances (rows interleaved), a GPS time, a parameter
+/// change and a logged string.
+fn two_instances_log() -> Vec<u8> {
+    let mut b = LogBuilder::new(1, 0);
+    b.info_str("sys_name", "Test");
+    b.param("int32_t MAV_TYPE", &13i32.to_le_bytes());
+    b.format("a:uint64_t timestamp;float x;");
+    b.format("vehicle_gps_position:uint64_t timestamp;uint64_t time_utc_usec;");
+    b.subscribe(0, 0, "a");
+    b.subscribe(1, 1, "a");
+    b.subscribe(0, 2, "vehicle_gps_position");
+    for i in 0..10u64 {
+        let mut p = (1000 + i).to_le_bytes().to_vec();
+        p.extend_from_slice(&(i as f32).to_le_bytes());
+        b.data((i % 2) as u16, &p);
+    }
+    let mut p = 2000u64.to_le_bytes().to_vec();
+    p.extend_from_slice(&1_700_000_000_002_000u64.to_le_bytes());
+    b.data(2, &p);
+    b.param("int32_t MAV_TYPE", &2i32.to_le_bytes());
+    b.log(3, 1500, "an error");
+    b.into_bytes()
+}
+
+#[test]
+fn a_dataset_file_holds_every_instance_of_a_topic_with_its_log_and_instance() {
+    let dir = scratch("dataset_instances");
+    let log = dir.with_extension("ulg");
+    std::fs::write(&log, two_instances_log()).expect("write");
+    let dataset = Dataset::open(&dir, &Options::default()).expect("open");
+    let Added::Written { log_id, export } = dataset.add(&log, None, |_| {}).expect("add") else {
+        panic!("a new dataset has no log")
+    };
+    assert_eq!(log_id.len(), 16);
+    assert_eq!(
+        export.files.len(),
+        2,
+        "a and vehicle_gps_position: one file each"
+    );
+    assert_eq!(export.files[0].rows, 10, "both instances");
+    dataset.finish().expect("finish");
+
+    let (schema, a) = read_back(&dir.join("a").join(format!("{log_id}.parquet")));
+    let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+    assert_eq!(names, ["log_id", "multi_id", "timestamp", "x"]);
+    assert!(!schema.metadata().contains_key("ulog.multi_id"));
+    assert_eq!(a.num_rows(), 10);
+    let ids = a.column(0).as_string::<i32>();
+    assert!(ids.iter().all(|id| id == Some(log_id.as_str())));
+    let multi: Vec<u8> = a.column(1).as_primitive::<UInt8Type>().values().to_vec();
+    let x: Vec<f32> = a.column(3).as_primitive::<Float32Type>().values().to_vec();
+    // Each row keeps its instance: x is even in instance 0, odd in 1.
+    for (m, x) in multi.iter().zip(&x) {
+        assert_eq!(u32::from(*m), *x as u32 % 2);
+    }
+    assert_eq!(multi.iter().filter(|&&m| m == 1).count(), 5);
+
+    let (_, logs) = read_back(&dir.join(LOGS_FILE));
+    assert_eq!(logs.num_rows(), 1);
+    let text = |name: &str| {
+        logs.column_by_name(name)
+            .unwrap()
+            .as_string::<i32>()
+            .value(0)
+            .to_owned()
+    };
+    assert_eq!(text("sys_name"), "Test");
+    assert_eq!(text("vehicle_type"), "hexarotor", "the initial MAV_TYPE");
+    assert!(text("sha256").starts_with(&log_id));
+    // The GPS time of the row at 2000 µs, taken during the pass.
+    let utc = logs
+        .column_by_name("start_utc")
+        .unwrap()
+        .as_primitive::<arrow_array::types::TimestampMicrosecondType>();
+    assert_eq!(utc.value(0), 1_700_000_000_000_000);
+    let (_, params) = read_back(&dir.join(PARAMETERS_FILE));
+    let kinds: Vec<&str> = params
+        .column_by_name("kind")
+        .unwrap()
+        .as_string::<i32>()
+        .iter()
+        .flatten()
+        .collect();
+    assert_eq!(kinds, ["initial", "changed"]);
+    let (_, messages) = read_back(&dir.join(MESSAGES_FILE));
+    assert_eq!(
+        messages
+            .column_by_name("text")
+            .unwrap()
+            .as_string::<i32>()
+            .value(0),
+        "an error"
+    );
+    assert_eq!(
+        messages
+            .column_by_name("level")
+            .unwrap()
+            .as_string::<i32>()
+            .value(0),
+        "ERROR"
+    );
+    let (_, formats) = read_back(&dir.join(FORMATS_FILE));
+    assert_eq!(formats.num_rows(), 2);
+
+    // Again: present, nothing written.
+    let dataset = Dataset::open(&dir, &Options::default()).expect("open again");
+    assert_eq!(dataset.len(), 1);
+    assert!(dataset.contains(&log_id));
+    assert!(matches!(
+        dataset.add(&log, None, |_| {}),
+        Ok(Added::Present { .. })
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&log);
+}
+
+#[test]
+fn a_log_that_fails_leaves_the_dataset_as_it_was() {
+    let dir = scratch("dataset_failure");
+    let bad = dir.with_extension("ulg");
+    std::fs::write(&bad, b"this is not a log").expect("write");
+    let dataset = Dataset::open(&dir, &Options::default()).expect("open");
+    let e = dataset.add(&bad, None, |_| {}).expect_err("not a log");
+    assert_eq!(e.kind(), &ExportErrorKind::Read);
+    assert!(dataset.is_empty());
+    dataset.finish().expect("finish");
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        [FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE],
+        "the four tables, empty, and nothing else"
+    );
+    assert_eq!(read_back_rows(&dir.join(LOGS_FILE)), 0);
+
+    // A table with other columns is an error that names it.
+    std::fs::copy(dir.join(FORMATS_FILE), dir.join(LOGS_FILE)).expect("copy");
+    let e = Dataset::open(&dir, &Options::default()).expect_err("other columns");
+    assert!(matches!(e.kind(), ExportErrorKind::Dataset { .. }));
+    assert_eq!(e.path(), Some(dir.join(LOGS_FILE).as_path()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&bad);
+}
+
+fn read_back_rows(path: &std::path::Path) -> i64 {
+    let file = std::fs::File::open(path).expect("open");
+    ParquetRecordBatchReaderBuilder::try_new(file)
+        .expect("reader")
+        .metadata()
+        .file_metadata()
+        .num_rows()
+}

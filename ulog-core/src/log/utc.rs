@@ -2,7 +2,12 @@
 
 use std::fmt;
 
+#[cfg(feature = "parquet")]
+use ulog_format::{BasicType, LayoutType};
+
 use crate::definitions::timestamp::Unwrapper;
+#[cfg(feature = "parquet")]
+use crate::definitions::Subscription;
 use crate::log::ulog::ULog;
 
 /// The GPS topics that carry the receiver's UTC time (`time_utc_usec`), in the order
@@ -168,39 +173,109 @@ impl ULog<'_> {
         GPS_TOPICS
             .iter()
             .find_map(|topic| self.gps_clock(topic))
-            .or_else(|| {
-                let boot = self.info_value("boot_time_utc_us")?.as_u64()?;
-                PLAUSIBLE_UTC_US
-                    .contains(&boot)
-                    .then(|| UtcClock::from_boot(boot as i64))
-            })
+            .or_else(|| self.boot_clock())
+    }
+
+    /// The clock of information key `boot_time_utc_us`, when it is a plausible time.
+    fn boot_clock(&self) -> Option<UtcClock> {
+        let boot = self.info_value("boot_time_utc_us")?.as_u64()?;
+        PLAUSIBLE_UTC_US
+            .contains(&boot)
+            .then(|| UtcClock::from_boot(boot as i64))
     }
 
     fn gps_clock(&self, topic: &'static str) -> Option<UtcClock> {
         let t = self.topic(topic, 0).ok()?;
         let utc = t.field("time_utc_usec").ok()?;
         let mut timestamps = Unwrapper::new(t.timestamp_field());
-        let mut offsets: Vec<i64> = t
+        let offsets: Vec<i64> = t
             .payloads()
-            .filter_map(|p| {
-                let timestamp = timestamps.push(p)?;
-                let utc = utc.read(p)?.as_u64()?;
-                let offset = i64::try_from(utc).ok()? - i64::try_from(timestamp).ok()?;
-                PLAUSIBLE_UTC_US.contains(&utc).then_some(offset)
-            })
+            .filter_map(|p| gps_offset(timestamps.push(p)?, utc.read(p)?.as_u64()?))
             .collect();
-        if offsets.is_empty() {
+        median_clock(topic, offsets)
+    }
+}
+
+/// The offset of a GPS time to its row's timestamp, if the time is plausible.
+fn gps_offset(timestamp: u64, utc: u64) -> Option<i64> {
+    let offset = i64::try_from(utc).ok()? - i64::try_from(timestamp).ok()?;
+    PLAUSIBLE_UTC_US.contains(&utc).then_some(offset)
+}
+
+/// The clock of the median of a GPS topic's offsets; `None` when there are none.
+fn median_clock(topic: &'static str, mut offsets: Vec<i64>) -> Option<UtcClock> {
+    if offsets.is_empty() {
+        return None;
+    }
+    let mid = offsets.len() / 2;
+    let (_, &mut median, _) = offsets.select_nth_unstable(mid);
+    Some(UtcClock {
+        boot_us: median,
+        source: UtcSource::Gps {
+            topic,
+            samples: offsets.len(),
+        },
+    })
+}
+
+#[cfg(feature = "parquet")]
+/// [`ULog::utc`] of a log read in one pass that does not keep its data (the Parquet
+/// export's): the GPS offsets are taken as the rows go by, 8 bytes a row.
+#[derive(Debug, Default)]
+pub(crate) struct UtcSamples {
+    /// The offsets of each of [`GPS_TOPICS`], instance 0.
+    offsets: [Vec<i64>; 3],
+    /// Whether a subscription of each was met.
+    claimed: [bool; 3],
+}
+
+#[cfg(feature = "parquet")]
+/// Where a GPS topic's time is: its rank in [`GPS_TOPICS`] and the offset of its
+/// `uint64_t time_utc_usec` in a payload.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GpsTime {
+    rank: usize,
+    offset: usize,
+}
+
+#[cfg(feature = "parquet")]
+impl UtcSamples {
+    /// Where the GPS time of `sub`'s rows is, if it is one of [`GPS_TOPICS`], instance
+    /// 0, and the first subscription of its name met (the rows of a second one are not
+    /// taken).
+    pub(crate) fn gps_time(&mut self, sub: &Subscription) -> Option<GpsTime> {
+        let rank = GPS_TOPICS.iter().position(|t| *t == sub.name())?;
+        if sub.multi_id() != 0 || std::mem::replace(&mut self.claimed[rank], true) {
             return None;
         }
-        let mid = offsets.len() / 2;
-        let (_, &mut median, _) = offsets.select_nth_unstable(mid);
-        Some(UtcClock {
-            boot_us: median,
-            source: UtcSource::Gps {
-                topic,
-                samples: offsets.len(),
+        let field = sub.layout().ok()?.find("time_utc_usec")?;
+        (matches!(field.ty, LayoutType::Basic(BasicType::UInt64)) && !field.is_array).then_some(
+            GpsTime {
+                rank,
+                offset: field.offset,
             },
-        })
+        )
+    }
+
+    /// Takes the time of a row of the topic at `at` whose timestamp is `timestamp`.
+    pub(crate) fn push(&mut self, at: GpsTime, payload: &[u8], timestamp: u64) {
+        let Some(bytes) = payload.get(at.offset..at.offset + 8) else {
+            return;
+        };
+        let mut utc = [0u8; 8];
+        utc.copy_from_slice(bytes);
+        if let Some(offset) = gps_offset(timestamp, u64::from_le_bytes(utc)) {
+            self.offsets[at.rank].push(offset);
+        }
+    }
+
+    /// The clock by [`ULog::utc`]'s rule, `log` being the log without its data.
+    pub(crate) fn clock(self, log: &ULog<'_>) -> Option<UtcClock> {
+        GPS_TOPICS
+            .iter()
+            .zip(self.offsets)
+            .find_map(|(topic, offsets)| median_clock(topic, offsets))
+            .or_else(|| log.boot_clock())
     }
 }
 

@@ -1,0 +1,571 @@
+//! `ulog parquet LOGS -o DATASET`: many logs as one dataset.
+//!
+//! - The README's five "Fleet analysis" queries, run with DuckDB (and three of them
+//!   with DataFusion) over a dataset of the whole corpus, answer what this library's
+//!   reader says of each log; so do the rows per topic and log, and `log_id` is the
+//!   start of the SHA-256 that Python's `hashlib` computes.
+//! - `logs.parquet`, read back with the `parquet` crate, says of every log what the
+//!   reader says (versions, counts, duration, UTC start, damage).
+//! - The same logs converted twice give the same bytes; adding a log adds only its
+//!   files (and rewrites the four tables with its rows); a log that fails is reported
+//!   and the rest go on.
+
+mod common;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use serde_json::Value as Json;
+use ulog_core::export::arrow_array::cast::AsArray;
+use ulog_core::export::arrow_array::types::{
+    Float64Type, TimestampMicrosecondType, UInt32Type, UInt64Type,
+};
+use ulog_core::export::arrow_array::{Array, RecordBatch};
+use ulog_core::export::parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use ulog_core::ULog;
+
+/// The corpus's logs (every one converts).
+fn logs() -> Vec<PathBuf> {
+    common::corpus_logs(&common::corpus())
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect()
+}
+
+/// A Parquet file read back as one batch.
+fn read(path: &Path) -> RecordBatch {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    // The reader caps the batch at the file's rows: one batch.
+    let mut reader = ParquetRecordBatchReaderBuilder::try_new(file)
+        .and_then(|b| b.with_batch_size(usize::MAX).build())
+        .expect("parquet reader");
+    let batch = reader.next().expect("rows").expect("batch");
+    assert!(reader.next().is_none(), "one batch");
+    batch
+}
+
+/// Every file under `dir` with its bytes, by path relative to `dir`.
+fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("read dir") {
+            let p = e.expect("entry").path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).expect("under dir").to_owned();
+                out.insert(rel, std::fs::read(&p).expect("read"));
+            }
+        }
+    }
+    out
+}
+
+/// An information value as text.
+fn info(log: &ULog<'_>, key: &str) -> Option<String> {
+    log.info_value(key)
+        .and_then(|v| v.as_str())
+        .map(|t| {
+            t.as_bytes()
+                .iter()
+                .map(|&b| char::from(b))
+                .collect::<String>()
+        })
+        .map(|s| s.trim_end_matches('\0').to_owned())
+}
+
+/// `ulog parquet LOGS -o DIR` (one thread per log, or `-j 1`).
+fn convert(logs: &[PathBuf], dir: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args: Vec<std::ffi::OsString> = vec!["parquet".into()];
+    args.extend(logs.iter().map(|p| p.as_os_str().to_owned()));
+    args.extend(["-o".into(), dir.as_os_str().to_owned()]);
+    args.extend(extra.iter().map(|s| (*s).into()));
+    common::ulog(args)
+}
+
+fn json_text(v: &Json) -> Option<String> {
+    v.as_str().map(str::to_owned)
+}
+
+#[test]
+#[cfg_attr(
+    not(query_engines),
+    ignore = "needs python3 with duckdb and datafusion (pip install duckdb datafusion)"
+)]
+fn the_readmes_queries_answer_what_the_reader_says() {
+    let dir = common::scratch("fleet_queries").join("dataset");
+    let logs = logs();
+    let out = convert(&logs, &dir, &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scripts/fleet_queries.py");
+    let answers: Json = serde_json::from_slice(&common::python([
+        script.as_os_str(),
+        readme.as_os_str(),
+        dir.as_os_str(),
+    ]))
+    .expect("json");
+
+    // log_id → the log, and log_id is the start of the file's SHA-256 (hashlib's).
+    let mut ids: BTreeMap<String, PathBuf> = BTreeMap::new();
+    for row in answers["logs"].as_array().expect("logs") {
+        ids.insert(
+            row[0].as_str().expect("id").to_owned(),
+            PathBuf::from(row[1].as_str().expect("path")),
+        );
+    }
+    assert_eq!(ids.len(), logs.len(), "one row per log");
+    let hashes: Json = serde_json::from_slice(&common::python([
+        "-c",
+        "import hashlib, json, sys; print(json.dumps({p: hashlib.sha256(open(p, 'rb').read()).hexdigest() for p in sys.argv[1:]}))",
+    ].into_iter().map(std::ffi::OsString::from).chain(logs.iter().map(|p| p.as_os_str().to_owned()))))
+    .expect("hashes");
+    for (id, path) in &ids {
+        let sha = hashes[path.to_str().expect("utf-8 path")]
+            .as_str()
+            .expect("hash");
+        assert!(
+            sha.starts_with(id.as_str()),
+            "{}: {id} vs {sha}",
+            path.display()
+        );
+    }
+
+    let bytes: BTreeMap<String, Vec<u8>> = ids
+        .iter()
+        .map(|(id, p)| (id.clone(), std::fs::read(p).expect("read log")))
+        .collect();
+    let parsed: BTreeMap<&String, ULog<'_>> = bytes
+        .iter()
+        .map(|(id, b)| (id, ULog::parse(b).expect("parse")))
+        .collect();
+
+    // Rows per topic and log.
+    let mut expected: BTreeSet<(String, String, u64)> = BTreeSet::new();
+    for (id, log) in &parsed {
+        let mut rows: BTreeMap<String, u64> = BTreeMap::new();
+        for t in log.topics().filter(|t| !t.is_empty()) {
+            *rows.entry(t.name().replace('/', "_")).or_default() += t.len() as u64;
+        }
+        expected.extend(rows.into_iter().map(|(t, n)| (t, (*id).clone(), n)));
+    }
+    let found: BTreeSet<(String, String, u64)> = answers["counts"]
+        .as_array()
+        .expect("counts")
+        .iter()
+        .map(|r| {
+            (
+                r[0].as_str().unwrap().to_owned(),
+                r[1].as_str().unwrap().to_owned(),
+                r[2].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(found, expected, "rows per topic and log");
+
+    let duck = answers["duckdb"].as_array().expect("duckdb");
+    let fusion = &answers["datafusion"];
+
+    // 1. Flights per vehicle and firmware.
+    let mut flights: BTreeMap<(Option<String>, Option<String>), u64> = BTreeMap::new();
+    for log in parsed.values() {
+        let vehicle = info(log, "sys_uuid").or_else(|| info(log, "ver_hw"));
+        let firmware = log.release_version("ver_sw_release").map(|r| r.to_string());
+        *flights.entry((vehicle, firmware)).or_default() += 1;
+    }
+    for rows in [&duck[0], &fusion["1"]] {
+        let got: BTreeMap<(Option<String>, Option<String>), u64> = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| ((json_text(&r[0]), json_text(&r[1])), r[2].as_u64().unwrap()))
+            .collect();
+        assert_eq!(got, flights, "flights per vehicle and firmware");
+    }
+
+    // 2. Highest point: the reader's maximum of -z, NaN left out.
+    let mut highest: BTreeMap<String, f64> = BTreeMap::new();
+    for (id, log) in &parsed {
+        for t in log.topic_instances("vehicle_local_position") {
+            let z = t.field("z").expect("z");
+            for p in t.payloads() {
+                let v = z.read(p).and_then(|v| v.as_f64()).expect("z value");
+                if !v.is_nan() {
+                    let m = highest.entry((*id).clone()).or_insert(f64::NEG_INFINITY);
+                    *m = m.max(-v);
+                }
+            }
+        }
+    }
+    assert!(highest.len() > 1 || !cfg!(full_corpus));
+    for rows in [&duck[1], &fusion["2"]] {
+        let got: BTreeMap<String, f64> = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| (r[0].as_str().unwrap().to_owned(), r[1].as_f64().unwrap()))
+            .collect();
+        assert_eq!(got, highest, "max altitude per flight");
+    }
+
+    // 3. Lowest battery voltage above 0.
+    let mut lowest: BTreeMap<String, f64> = BTreeMap::new();
+    for (id, log) in &parsed {
+        for t in log.topic_instances("battery_status") {
+            let Ok(v) = t.field("voltage_v") else {
+                continue;
+            };
+            for p in t.payloads() {
+                let v = v.read(p).and_then(|v| v.as_f64()).expect("voltage");
+                if v > 0.0 {
+                    let m = lowest.entry((*id).clone()).or_insert(f64::INFINITY);
+                    *m = m.min(v);
+                }
+            }
+        }
+    }
+    let got: BTreeMap<String, f64> = duck[2]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r[0].as_str().unwrap().to_owned(), r[1].as_f64().unwrap()))
+        .collect();
+    assert_eq!(got, lowest, "min battery voltage per flight");
+
+    // 4. Initial parameters that differ between v1.13.0 (dev) and v1.15.0 (dev).
+    let of = |release: &str| -> Option<BTreeMap<String, f64>> {
+        let mut found = parsed.values().filter(|l| {
+            l.release_version("ver_sw_release")
+                .map(|r| r.to_string())
+                .as_deref()
+                == Some(release)
+        });
+        let log = found.next()?;
+        assert!(found.next().is_none(), "one log of {release} in the corpus");
+        Some(
+            log.initial_params()
+                .iter()
+                .map(|kv| (kv.name().into_owned(), kv.value().as_f64().expect("number")))
+                .collect(),
+        )
+    };
+    let (a, b) = (
+        of("v1.13.0 (dev)").unwrap_or_default(),
+        of("v1.15.0 (dev)").unwrap_or_default(),
+    );
+    let names: BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+    let differ: Vec<(String, Option<f64>, Option<f64>)> = names
+        .into_iter()
+        .map(|n| (n.clone(), a.get(n).copied(), b.get(n).copied()))
+        .filter(|(_, x, y)| x != y)
+        .collect();
+    assert!(!differ.is_empty() || !cfg!(full_corpus));
+    let got: Vec<(String, Option<f64>, Option<f64>)> = duck[3]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r[0].as_str().unwrap().to_owned(),
+                r[1].as_f64(),
+                r[2].as_f64(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got, differ,
+        "parameters that differ between two firmware versions"
+    );
+
+    // 5. Logs with damage.
+    let mut damaged: Vec<(String, bool, u64, u64)> = parsed
+        .iter()
+        .filter(|(_, l)| l.has_damage() || l.is_truncated())
+        .map(|(id, l)| {
+            let corrupt = l
+                .findings()
+                .iter()
+                .filter(|f| f.is_damage() && f.kind != ulog_core::read::FindingKind::Truncated)
+                .map(|f| f.len)
+                .sum();
+            (
+                ids[*id].display().to_string(),
+                l.is_truncated(),
+                corrupt,
+                l.findings().len() as u64,
+            )
+        })
+        .collect();
+    damaged.sort();
+    assert!(!damaged.is_empty() || !cfg!(full_corpus));
+    for rows in [&duck[4], &fusion["5"]] {
+        let got: Vec<(String, bool, u64, u64)> = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                (
+                    r[0].as_str().unwrap().to_owned(),
+                    r[1].as_bool().unwrap(),
+                    r[2].as_u64().unwrap(),
+                    r[3].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(got, damaged, "logs with damage");
+    }
+}
+
+#[test]
+fn the_table_of_logs_says_what_the_reader_says() {
+    let dir = common::scratch("fleet_logs").join("dataset");
+    let logs = logs();
+    let out = convert(&logs, &dir, &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = read(&dir.join("logs.parquet"));
+    assert_eq!(table.num_rows(), logs.len());
+    let text = |name: &str, i: usize| -> Option<String> {
+        let c = table.column_by_name(name).expect(name).as_string::<i32>();
+        c.is_valid(i).then(|| c.value(i).to_owned())
+    };
+    let u64s = |name: &str| {
+        table
+            .column_by_name(name)
+            .expect(name)
+            .as_primitive::<UInt64Type>()
+            .clone()
+    };
+    let u32s = |name: &str| {
+        table
+            .column_by_name(name)
+            .expect(name)
+            .as_primitive::<UInt32Type>()
+            .clone()
+    };
+    let bools = |name: &str| table.column_by_name(name).expect(name).as_boolean().clone();
+    let mut ids = Vec::new();
+    for i in 0..table.num_rows() {
+        let path = PathBuf::from(text("path", i).expect("path"));
+        let bytes = std::fs::read(&path).expect("read");
+        let log = ULog::parse(&bytes).expect("parse");
+        let what = path.display().to_string();
+        ids.push(text("log_id", i).expect("id"));
+        assert_eq!(u64s("size").value(i), bytes.len() as u64, "{what}");
+        assert_eq!(text("sys_name", i), info(&log, "sys_name"), "{what}");
+        assert_eq!(text("ver_hw", i), info(&log, "ver_hw"), "{what}");
+        assert_eq!(text("ver_sw", i), info(&log, "ver_sw"), "{what}");
+        assert_eq!(
+            text("ver_sw_release", i),
+            log.release_version("ver_sw_release").map(|r| r.to_string()),
+            "{what}"
+        );
+        assert_eq!(
+            u64s("start_timestamp").value(i),
+            log.start_timestamp(),
+            "{what}"
+        );
+        let utc = table
+            .column_by_name("start_utc")
+            .unwrap()
+            .as_primitive::<TimestampMicrosecondType>();
+        let clock = log.utc();
+        assert_eq!(
+            utc.is_valid(i).then(|| utc.value(i)),
+            clock.as_ref().map(|c| c.at(log.start_timestamp()).micros()),
+            "{what}: UTC start, by ULog::utc's rule"
+        );
+        assert_eq!(
+            text("utc_source", i),
+            clock.map(|c| c.source().to_string()),
+            "{what}"
+        );
+        let duration = table
+            .column_by_name("duration_s")
+            .unwrap()
+            .as_primitive::<Float64Type>();
+        assert_eq!(
+            duration.value(i),
+            (log.last_timestamp() - log.start_timestamp()) as f64 / 1e6,
+            "{what}"
+        );
+        let topics = log.topics().filter(|t| !t.is_empty()).count() as u32;
+        let messages: u64 = log.topics().map(|t| t.len() as u64).sum();
+        assert_eq!(u32s("topics").value(i), topics, "{what}");
+        assert_eq!(u64s("messages").value(i), messages, "{what}");
+        assert_eq!(bools("truncated").value(i), log.is_truncated(), "{what}");
+        assert_eq!(bools("damaged").value(i), log.has_damage(), "{what}");
+        assert_eq!(
+            u32s("findings").value(i),
+            log.findings().len() as u32,
+            "{what}"
+        );
+        assert_eq!(
+            u32s("dropouts").value(i),
+            log.dropouts().len() as u32,
+            "{what}"
+        );
+    }
+    let mut sorted = ids.clone();
+    sorted.sort();
+    assert_eq!(ids, sorted, "rows sorted by log_id");
+
+    // The other tables: as many rows per log as the reader has.
+    let params = read(&dir.join("parameters.parquet"));
+    let messages = read(&dir.join("messages.parquet"));
+    let formats = read(&dir.join("formats.parquet"));
+    let count = |t: &RecordBatch, id: &str, kind: Option<&str>| {
+        let ids = t.column(0).as_string::<i32>();
+        let kinds = t
+            .column_by_name("kind")
+            .map(|k| k.as_string::<i32>().clone());
+        (0..t.num_rows())
+            .filter(|&i| ids.value(i) == id)
+            .filter(|&i| kind.map_or(true, |k| kinds.as_ref().unwrap().value(i) == k))
+            .count()
+    };
+    for (i, id) in ids.iter().enumerate() {
+        let path = PathBuf::from(text("path", i).unwrap());
+        let bytes = std::fs::read(&path).unwrap();
+        let log = ULog::parse(&bytes).unwrap();
+        let what = path.display().to_string();
+        assert_eq!(
+            count(&params, id, Some("initial")),
+            log.initial_params().len(),
+            "{what}"
+        );
+        assert_eq!(
+            count(&params, id, Some("changed")),
+            log.param_changes().len(),
+            "{what}"
+        );
+        let logged = log
+            .logged_messages()
+            .iter()
+            .filter(|m| m.tag.is_none())
+            .count();
+        let tagged = log.logged_messages().len() - logged;
+        assert_eq!(count(&messages, id, Some("logged")), logged, "{what}");
+        assert_eq!(count(&messages, id, Some("tagged")), tagged, "{what}");
+        let events = log.events(&Default::default());
+        assert_eq!(
+            count(&messages, id, Some("event")),
+            events.iter().count(),
+            "{what}"
+        );
+        assert_eq!(count(&formats, id, None), log.formats().len(), "{what}");
+    }
+}
+
+#[test]
+fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
+    let scratch = common::scratch("fleet_incremental");
+    let logs = logs();
+    let (first, rest) = logs.split_at(logs.len().min(3));
+
+    // All at once, twice (and on one thread): the same bytes.
+    let once = scratch.join("once");
+    let again = scratch.join("again");
+    assert!(convert(&logs, &once, &[]).status.success());
+    assert!(convert(&logs, &again, &["-j", "1"]).status.success());
+    let all = files(&once);
+    assert_eq!(all, files(&again), "the same logs give the same files");
+
+    // A few, then the rest: the files of the first are not written again, and the
+    // dataset ends as the one written at once.
+    let grown = scratch.join("grown");
+    assert!(convert(first, &grown, &[]).status.success());
+    let before = files(&grown);
+    let mut times = BTreeMap::new();
+    for rel in before.keys() {
+        let m = std::fs::metadata(grown.join(rel))
+            .unwrap()
+            .modified()
+            .unwrap();
+        times.insert(rel.clone(), m);
+    }
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let mut all_logs = first.to_vec();
+    all_logs.extend_from_slice(rest);
+    let out = convert(&all_logs, &grown, &[]);
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        stdout.matches("the dataset has it already").count(),
+        first.len(),
+        "{stdout}"
+    );
+    let after = files(&grown);
+    assert_eq!(after, all, "the grown dataset is the one written at once");
+    let tables = [
+        "logs.parquet",
+        "parameters.parquet",
+        "messages.parquet",
+        "formats.parquet",
+    ];
+    for (rel, time) in &times {
+        let now = std::fs::metadata(grown.join(rel))
+            .unwrap()
+            .modified()
+            .unwrap();
+        if tables.iter().any(|t| rel == Path::new(t)) {
+            continue;
+        }
+        assert_eq!(&now, time, "{} was written again", rel.display());
+    }
+    let added: Vec<&PathBuf> = after.keys().filter(|k| !before.contains_key(*k)).collect();
+    assert!(!added.is_empty());
+    assert!(
+        added.iter().all(|k| k.components().count() == 2),
+        "only topic files are new"
+    );
+
+    // A log that fails is reported; the others are added.
+    let mixed = scratch.join("mixed");
+    std::fs::create_dir_all(&mixed).unwrap();
+    std::fs::write(mixed.join("broken.ulg"), b"not a log at all").unwrap();
+    std::fs::create_dir_all(mixed.join("sub")).unwrap();
+    std::fs::copy(&logs[0], mixed.join("sub").join("a.ulg")).unwrap();
+    let ds = scratch.join("mixed_dataset");
+    let out = common::ulog([
+        "parquet".as_ref(),
+        mixed.as_os_str(),
+        "-o".as_ref(),
+        ds.as_os_str(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(4),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("broken.ulg: not a ULog file"), "{stderr}");
+    assert!(stderr.contains("1 of 2 logs failed"), "{stderr}");
+    assert_eq!(
+        read(&ds.join("logs.parquet")).num_rows(),
+        1,
+        "the log in the subfolder is in"
+    );
+}
+
+#[test]
+fn several_logs_need_a_dataset_folder() {
+    let logs = logs();
+    let out = common::ulog(["parquet".as_ref(), logs[0].as_os_str(), logs[1].as_os_str()]);
+    assert_eq!(out.status.code(), Some(6));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("name its folder with -o DATASET"),
+        "{stderr}"
+    );
+}

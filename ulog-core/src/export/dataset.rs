@@ -1,0 +1,674 @@
+//! Many logs as one dataset: one Parquet file per topic and log, and four tables of
+//! what the logs are (see [`Dataset`]).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fs::File;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use arrow_array::builder::ArrayBuilder;
+use arrow_array::builder::{
+    BooleanBuilder, Float64Builder, StringBuilder, TimestampMicrosecondBuilder, UInt16Builder,
+    UInt32Builder, UInt64Builder,
+};
+use arrow_array::{Array, ArrayRef, RecordBatch, StringArray};
+use arrow_schema::{DataType, Field, Schema, SchemaRef, TimeUnit};
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::arrow::ArrowWriter;
+use sha2::{Digest, Sha256};
+
+use super::error::{ExportError, ExportErrorKind};
+use super::files::{compression_of, write_error};
+use super::metadata::Facts;
+use super::stream::{export, Layout};
+use super::{Export, Options};
+use crate::finding::{Finding, FindingKind};
+use crate::log::message::KeyValue;
+use crate::log::ulog::ULog;
+use crate::log::utc::UtcClock;
+
+type Result<T, E = ExportError> = core::result::Result<T, E>;
+
+/// The dataset's table of logs, one row each.
+pub const LOGS_FILE: &str = "logs.parquet";
+/// The dataset's table of parameters.
+pub const PARAMETERS_FILE: &str = "parameters.parquet";
+/// The dataset's table of logged strings and PX4 events.
+pub const MESSAGES_FILE: &str = "messages.parquet";
+/// The dataset's table of message formats.
+pub const FORMATS_FILE: &str = "formats.parquet";
+
+/// Hex digits of a `log_id`: the first 64 bits of the log's SHA-256, so that one log
+/// has one id wherever it is and whatever its name (two different logs share one with
+/// a chance of 1 in 2^32 in a fleet of 2^16 logs).
+const LOG_ID_DIGITS: usize = 16;
+
+/// A folder of Parquet files that holds any number of logs, for engines that read a
+/// folder of Parquet files as one table (DuckDB, DataFusion, Polars, Spark):
+///
+/// - `<topic>/<log_id>.parquet`: the rows of a topic in one log, all its instances,
+///   with columns `log_id` and `multi_id` before the fields ([`Options::log_id`]), so
+///   that `SELECT … FROM 'DATASET/vehicle_status/*.parquet'` spans every log;
+/// - [`LOGS_FILE`]: one row per log: `log_id`, `path` (as given), `size`, `sha256`,
+///   `start_timestamp` (µs since boot), `start_utc` and `utc_source` (where the log
+///   says it, by [`ULog::utc`]'s rule), `duration_s`, `sys_name`, `ver_hw`, `ver_sw`,
+///   `ver_sw_release`, `sys_uuid`, `vehicle_type` (from parameter `MAV_TYPE`),
+///   `airframe` (`SYS_AUTOSTART`), `topics` (topic instances with data), `messages`
+///   (data messages), and the damage: `truncated`, `damaged`, `corrupt_bytes` (bytes
+///   stepped over), `findings`, `dropouts`, `dropout_ms`;
+/// - [`PARAMETERS_FILE`]: `log_id`, `name`, `value` (as a double: every `int32_t`
+///   and `float` is exact), `type`, `timestamp` (null but for changes), `kind`
+///   (`initial`, `changed`, `default-system`, `default-configuration`);
+/// - [`MESSAGES_FILE`]: `log_id`, `timestamp`, `kind` (`logged`, `tagged`, `event`),
+///   `level`, `tag`, `text`, `event` (the event's name);
+/// - [`FORMATS_FILE`]: `log_id`, `name`, `format` (as the log defines it).
+///
+/// `log_id` is the first 16 hex digits of the log's SHA-256: the same log has the same
+/// id wherever it is, and converting it into a dataset that has it already does nothing
+/// ([`Added::Present`]). The four tables are sorted by `log_id`, each log's rows in
+/// log order, and written again by [`Dataset::finish`] with the rows they had and the
+/// new logs'; a topic's file is written once, when its log is added. The files are the
+/// same byte for byte whatever the order the logs are added in, or the threads.
+///
+/// Logs are added with [`Dataset::add`], from any number of threads at once.
+///
+/// ```
+/// use ulog_core::export::{Added, Dataset, Options};
+/// let dir = std::env::temp_dir().join(format!("ulog-dataset-doc-{}", std::process::id()));
+/// let log = dir.with_extension("ulg");
+/// std::fs::write(&log, ulog_core::testing::sample_log())?;
+///
+/// let dataset = Dataset::open(&dir, &Options::default())?;
+/// let Added::Written { log_id, export } = dataset.add(&log, None, |_| {})? else {
+///     unreachable!("a new dataset has no log")
+/// };
+/// dataset.finish()?;
+/// assert!(dir.join("esc_status").join(format!("{log_id}.parquet")).is_file());
+/// assert!(dir.join("logs.parquet").is_file());
+///
+/// // Added again: already there.
+/// let dataset = Dataset::open(&dir, &Options::default())?;
+/// assert!(matches!(dataset.add(&log, None, |_| {})?, Added::Present { .. }));
+/// # std::fs::remove_dir_all(&dir)?; std::fs::remove_file(&log)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Dataset {
+    dir: PathBuf,
+    options: Options,
+    state: Mutex<State>,
+}
+
+#[derive(Debug, Default)]
+struct State {
+    /// The logs in the dataset, those being added included.
+    ids: BTreeSet<String>,
+    /// Each table's rows by log.
+    tables: [BTreeMap<String, Vec<RecordBatch>>; 4],
+}
+
+/// What [`Dataset::add`] did.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Added {
+    /// The log's files were written.
+    Written {
+        /// Its id.
+        log_id: String,
+        /// The files written.
+        export: Export,
+    },
+    /// The dataset has the log already (or it was added by another thread meanwhile):
+    /// nothing was written.
+    Present {
+        /// Its id.
+        log_id: String,
+    },
+}
+
+impl Dataset {
+    /// The dataset in `dir` (made if missing), with the tables it has read back.
+    /// `options` are those of every log's files ([`Options::log_id`] is set for
+    /// each).
+    ///
+    /// An error when a table cannot be read, or has other columns than this version
+    /// writes.
+    pub fn open(dir: impl AsRef<Path>, options: &Options) -> Result<Dataset> {
+        let dir = dir.as_ref().to_owned();
+        std::fs::create_dir_all(&dir).map_err(|e| ExportError::io(e, &dir))?;
+        let mut state = State::default();
+        for (i, (name, schema)) in tables().into_iter().enumerate() {
+            let path = dir.join(name);
+            if path.exists() {
+                state.tables[i] = read_table(&path, &schema)?;
+            }
+        }
+        state.ids = state.tables[0].keys().cloned().collect();
+        Ok(Dataset {
+            dir,
+            options: options.clone(),
+            state: Mutex::new(state),
+        })
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The number of logs in the dataset (those being added included).
+    pub fn len(&self) -> usize {
+        self.lock().ids.len()
+    }
+
+    /// Whether the dataset has no log.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Whether the dataset has the log `log_id` (or is adding it).
+    pub fn contains(&self, log_id: &str) -> bool {
+        self.lock().ids.contains(log_id)
+    }
+
+    /// Adds the log at `path`: its id from its bytes, then, if the dataset lacks it, its
+    /// topics' files and its rows of the four tables (written by
+    /// [`Dataset::finish`]). `progress` is called with the bytes of the log read so far.
+    ///
+    /// A log that fails leaves no file of its own, and the dataset as it was.
+    ///
+    /// `utc`: the log's clock for a column `timestamp_utc` ([`Options::utc`]), if wanted
+    /// (the pass meets the GPS time only as it goes, after rows are written: take it
+    /// from [`ULog::utc`] first).
+    pub fn add(
+        &self,
+        path: &Path,
+        utc: Option<UtcClock>,
+        progress: impl FnMut(u64),
+    ) -> Result<Added> {
+        let (sha256, size) = sha256(path)?;
+        let log_id = sha256[..LOG_ID_DIGITS].to_owned();
+        if !self.lock().ids.insert(log_id.clone()) {
+            return Ok(Added::Present { log_id });
+        }
+        let origin = Origin {
+            path: path.display().to_string(),
+            size,
+            sha256,
+        };
+        let options = Options {
+            log_id: Some(log_id.clone()),
+            utc,
+            ..self.options.clone()
+        };
+        let source = crate::Source::file(path);
+        match export(
+            source,
+            &self.dir,
+            &options,
+            Layout::Dataset(&origin),
+            progress,
+        ) {
+            Ok((export, Some(tables))) => {
+                let mut state = self.lock();
+                for (i, batch) in tables.0.into_iter().enumerate() {
+                    state.tables[i].insert(log_id.clone(), vec![batch]);
+                }
+                Ok(Added::Written { log_id, export })
+            }
+            Ok((_, None)) => unreachable!("a dataset's export gives the log's tables"),
+            Err(e) => {
+                self.lock().ids.remove(&log_id);
+                Err(e)
+            }
+        }
+    }
+
+    /// Writes the four tables: the rows they had and those of the logs added.
+    pub fn finish(self) -> Result<()> {
+        let state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        for ((name, schema), rows) in tables().into_iter().zip(&state.tables) {
+            let path = self.dir.join(name);
+            write_table(&path, &schema, rows, &self.options)?;
+        }
+        Ok(())
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// The file a log is read from, as [`LOGS_FILE`] describes it.
+#[derive(Debug)]
+pub(super) struct Origin {
+    path: String,
+    size: u64,
+    sha256: String,
+}
+
+/// A log's rows of the four tables, in the order of [`tables`].
+#[derive(Debug)]
+pub(super) struct LogTables([RecordBatch; 4]);
+
+/// The SHA-256 of a file, in hex, and its size.
+fn sha256(path: &Path) -> Result<(String, u64)> {
+    let mut file = File::open(path).map_err(|e| ExportError::io(e, path))?;
+    let mut hash = Sha256::new();
+    let mut buffer = vec![0u8; 1 << 20];
+    let mut size = 0u64;
+    loop {
+        let n = match file.read(&mut buffer) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(ExportError::io(e, path)),
+        };
+        hash.update(&buffer[..n]);
+        size += n as u64;
+    }
+    let digest = hash.finalize();
+    let hex = digest.iter().map(|b| format!("{b:02x}")).collect();
+    Ok((hex, size))
+}
+
+fn field(name: &str, ty: DataType, nullable: bool) -> Field {
+    Field::new(name, ty, nullable)
+}
+
+/// The four tables: file name and schema.
+fn tables() -> [(&'static str, SchemaRef); 4] {
+    let utc = DataType::Timestamp(TimeUnit::Microsecond, Some("UTC".into()));
+    let text = |name| field(name, DataType::Utf8, true);
+    let logs = Schema::new(vec![
+        field("log_id", DataType::Utf8, false),
+        field("path", DataType::Utf8, false),
+        field("size", DataType::UInt64, false),
+        field("sha256", DataType::Utf8, false),
+        field("start_timestamp", DataType::UInt64, false),
+        field("start_utc", utc, true),
+        text("utc_source"),
+        field("duration_s", DataType::Float64, false),
+        text("sys_name"),
+        text("ver_hw"),
+        text("ver_sw"),
+        text("ver_sw_release"),
+        text("sys_uuid"),
+        text("vehicle_type"),
+        field("airframe", DataType::UInt32, true),
+        field("topics", DataType::UInt32, false),
+        field("messages", DataType::UInt64, false),
+        field("truncated", DataType::Boolean, false),
+        field("damaged", DataType::Boolean, false),
+        field("corrupt_bytes", DataType::UInt64, false),
+        field("findings", DataType::UInt32, false),
+        field("dropouts", DataType::UInt32, false),
+        field("dropout_ms", DataType::UInt64, false),
+    ]);
+    let parameters = Schema::new(vec![
+        field("log_id", DataType::Utf8, false),
+        field("name", DataType::Utf8, false),
+        field("value", DataType::Float64, true),
+        field("type", DataType::Utf8, false),
+        field("timestamp", DataType::UInt64, true),
+        field("kind", DataType::Utf8, false),
+    ]);
+    let messages = Schema::new(vec![
+        field("log_id", DataType::Utf8, false),
+        field("timestamp", DataType::UInt64, false),
+        field("kind", DataType::Utf8, false),
+        text("level"),
+        field("tag", DataType::UInt16, true),
+        field("text", DataType::Utf8, false),
+        text("event"),
+    ]);
+    let formats = Schema::new(vec![
+        field("log_id", DataType::Utf8, false),
+        field("name", DataType::Utf8, false),
+        field("format", DataType::Utf8, false),
+    ]);
+    [
+        (LOGS_FILE, Arc::new(logs)),
+        (PARAMETERS_FILE, Arc::new(parameters)),
+        (MESSAGES_FILE, Arc::new(messages)),
+        (FORMATS_FILE, Arc::new(formats)),
+    ]
+}
+
+/// PX4's vehicle types (MAVLink's `MAV_TYPE`, parameter `MAV_TYPE`) by number.
+fn vehicle_type(n: i128) -> String {
+    let name = match n {
+        0 => "generic",
+        1 => "fixed wing",
+        2 => "quadrotor",
+        3 => "coaxial",
+        4 => "helicopter",
+        7 => "airship",
+        8 => "free balloon",
+        10 => "ground rover",
+        11 => "surface boat",
+        12 => "submarine",
+        13 => "hexarotor",
+        14 => "octorotor",
+        15 => "tricopter",
+        19 => "VTOL tailsitter (duo)",
+        20 => "VTOL tailsitter (quad)",
+        21 => "VTOL tiltrotor",
+        22 => "VTOL fixed rotor",
+        23 => "VTOL tailsitter",
+        24 => "VTOL tiltwing",
+        29 => "dodecarotor",
+        35 => "decarotor",
+        _ => return format!("MAV_TYPE {n}"),
+    };
+    name.to_owned()
+}
+
+/// The text of an information value, if it is text.
+fn info_text(log: &ULog<'_>, key: &str) -> Option<String> {
+    let mut text = String::new();
+    super::latin1(log.info_value(key)?.as_str()?.as_bytes(), &mut text);
+    Some(text)
+}
+
+impl LogTables {
+    /// The rows of a log read without its data (`log`, with what the pass learnt in
+    /// `facts`); `utc` its clock.
+    pub(super) fn new(
+        log: &ULog<'_>,
+        facts: &Facts<'_>,
+        origin: &Origin,
+        utc: Option<UtcClock>,
+    ) -> Result<LogTables> {
+        let [logs, parameters, messages, formats] = tables().map(|(_, schema)| schema);
+        let log_id = &origin.sha256[..LOG_ID_DIGITS];
+        let ids = |n: usize| -> ArrayRef {
+            Arc::new(StringArray::from_iter_values(
+                std::iter::repeat(log_id).take(n),
+            ))
+        };
+        let batch = |schema: SchemaRef, columns: Vec<ArrayRef>| {
+            RecordBatch::try_new(schema, columns).map_err(ExportError::encoding)
+        };
+
+        // logs
+        let start = log.start_timestamp();
+        let text = |v: Option<String>| -> ArrayRef { Arc::new(StringArray::from(vec![v])) };
+        let mut start_utc = TimestampMicrosecondBuilder::new().with_timezone("UTC");
+        start_utc.append_option(utc.as_ref().map(|c| c.at(start).micros()));
+        let param = |name| log.initial_param(name).and_then(|v| v.as_i128());
+        let damage = |f: &&Finding| f.is_damage() && f.kind != FindingKind::Truncated;
+        let corrupt: u64 = facts.findings.iter().filter(damage).map(|f| f.len).sum();
+        let dropout_ms: u64 = log
+            .dropouts()
+            .iter()
+            .map(|d| u64::from(d.duration_ms))
+            .sum();
+        let logs = batch(
+            logs,
+            vec![
+                ids(1),
+                text(Some(origin.path.clone())),
+                Arc::new(UInt64Builder::new().append_value_then(origin.size)),
+                text(Some(origin.sha256.clone())),
+                Arc::new(UInt64Builder::new().append_value_then(start)),
+                Arc::new(start_utc.finish()),
+                text(utc.as_ref().map(|c| c.source().to_string())),
+                Arc::new(
+                    Float64Builder::new()
+                        .append_value_then(facts.last_timestamp.saturating_sub(start) as f64 / 1e6),
+                ),
+                text(info_text(log, "sys_name")),
+                text(info_text(log, "ver_hw")),
+                text(info_text(log, "ver_sw")),
+                text(log.release_version("ver_sw_release").map(|r| r.to_string())),
+                text(info_text(log, "sys_uuid")),
+                text(param("MAV_TYPE").map(vehicle_type)),
+                Arc::new({
+                    let mut b = UInt32Builder::new();
+                    b.append_option(param("SYS_AUTOSTART").and_then(|n| u32::try_from(n).ok()));
+                    b.finish()
+                }),
+                Arc::new(
+                    UInt32Builder::new()
+                        .append_value_then(facts.rows.iter().filter(|&&r| r > 0).count() as u32),
+                ),
+                Arc::new(
+                    UInt64Builder::new().append_value_then(facts.rows.iter().sum::<usize>() as u64),
+                ),
+                Arc::new(
+                    BooleanBuilder::new().append_value_then(
+                        facts
+                            .findings
+                            .iter()
+                            .any(|f| f.kind == FindingKind::Truncated),
+                    ),
+                ),
+                Arc::new(
+                    BooleanBuilder::new()
+                        .append_value_then(facts.findings.iter().any(Finding::is_damage)),
+                ),
+                Arc::new(UInt64Builder::new().append_value_then(corrupt)),
+                Arc::new(UInt32Builder::new().append_value_then(facts.findings.len() as u32)),
+                Arc::new(UInt32Builder::new().append_value_then(log.dropouts().len() as u32)),
+                Arc::new(UInt64Builder::new().append_value_then(dropout_ms)),
+            ],
+        )?;
+
+        // parameters
+        let mut p = Params::default();
+        for kv in log.initial_params() {
+            p.push(kv, None, "initial");
+        }
+        for c in log.param_changes() {
+            p.push(&c.kv, Some(c.timestamp), "changed");
+        }
+        for d in log.default_params() {
+            // Bit 0: the system's defaults, bit 1: the current configuration's.
+            for (bit, kind) in [(1, "default-system"), (2, "default-configuration")] {
+                if d.default_types & bit != 0 {
+                    p.push(&d.kv, None, kind);
+                }
+            }
+        }
+        let n = p.name.len();
+        let parameters = batch(
+            parameters,
+            vec![
+                ids(n),
+                Arc::new(p.name.finish()),
+                Arc::new(p.value.finish()),
+                Arc::new(p.ty.finish()),
+                Arc::new(p.timestamp.finish()),
+                Arc::new(p.kind.finish()),
+            ],
+        )?;
+
+        // messages
+        let mut m = Messages::default();
+        let mut line = String::new();
+        for s in log.logged_messages() {
+            super::latin1(s.text.as_bytes(), &mut line);
+            let kind = if s.tag.is_some() { "tagged" } else { "logged" };
+            let level = s.level().map(|l| l.name().to_owned());
+            m.push(s.timestamp, kind, level, s.tag, &line, None);
+        }
+        #[cfg(feature = "events")]
+        for e in facts.events.iter().flat_map(|e| e.iter()) {
+            let level = Some(e.level_name().to_owned());
+            m.push(e.timestamp, "event", level, None, &e.text, e.name.clone());
+        }
+        let n = m.text.len();
+        let messages = batch(
+            messages,
+            vec![
+                ids(n),
+                Arc::new(m.timestamp.finish()),
+                Arc::new(m.kind.finish()),
+                Arc::new(m.level.finish()),
+                Arc::new(m.tag.finish()),
+                Arc::new(m.text.finish()),
+                Arc::new(m.event.finish()),
+            ],
+        )?;
+
+        // formats
+        let list = log.formats();
+        let formats = batch(
+            formats,
+            vec![
+                ids(list.len()),
+                Arc::new(StringArray::from_iter_values(
+                    list.iter().map(|f| f.name.as_str()),
+                )),
+                Arc::new(StringArray::from_iter_values(
+                    list.iter().map(|f| f.to_string()),
+                )),
+            ],
+        )?;
+        Ok(LogTables([logs, parameters, messages, formats]))
+    }
+}
+
+/// One value appended, then the array.
+trait AppendThen<T> {
+    fn append_value_then(self, v: T) -> ArrayRef;
+}
+
+macro_rules! append_then {
+    ($($builder:ty => $t:ty),*) => {$(
+        impl AppendThen<$t> for $builder {
+            fn append_value_then(mut self, v: $t) -> ArrayRef {
+                self.append_value(v);
+                Arc::new(self.finish())
+            }
+        }
+    )*};
+}
+append_then!(UInt64Builder => u64, UInt32Builder => u32, Float64Builder => f64, BooleanBuilder => bool);
+
+#[derive(Default)]
+struct Params {
+    name: StringBuilder,
+    value: Float64Builder,
+    ty: StringBuilder,
+    timestamp: UInt64Builder,
+    kind: StringBuilder,
+}
+
+impl Params {
+    fn push(&mut self, kv: &KeyValue<'_>, timestamp: Option<u64>, kind: &str) {
+        let key = kv.key.to_string_lossy();
+        self.name.append_value(kv.name());
+        self.value.append_option(kv.value().as_f64());
+        // The key is `<type> <name>`.
+        self.ty
+            .append_value(key.split_once(' ').map_or(&*key, |(ty, _)| ty));
+        self.timestamp.append_option(timestamp);
+        self.kind.append_value(kind);
+    }
+}
+
+#[derive(Default)]
+struct Messages {
+    timestamp: UInt64Builder,
+    kind: StringBuilder,
+    level: StringBuilder,
+    tag: UInt16Builder,
+    text: StringBuilder,
+    event: StringBuilder,
+}
+
+impl Messages {
+    fn push(
+        &mut self,
+        timestamp: u64,
+        kind: &str,
+        level: Option<String>,
+        tag: Option<u16>,
+        text: &str,
+        event: Option<String>,
+    ) {
+        self.timestamp.append_value(timestamp);
+        self.kind.append_value(kind);
+        self.level.append_option(level);
+        self.tag.append_option(tag);
+        self.text.append_value(text);
+        self.event.append_option(event);
+    }
+}
+
+/// A table of the dataset read back: each log's rows by its id.
+fn read_table(path: &Path, schema: &SchemaRef) -> Result<BTreeMap<String, Vec<RecordBatch>>> {
+    let bad = |what: String| ExportError::new(ExportErrorKind::Dataset { what }).in_file(path);
+    let file = File::open(path).map_err(|e| ExportError::io(e, path))?;
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| bad(e.to_string()))?;
+    if builder.schema().fields() != schema.fields() {
+        return Err(bad(format!(
+            "its columns are not those this version writes ({})",
+            schema
+                .fields()
+                .iter()
+                .map(|f| f.name().as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    let reader = builder.build().map_err(|e| bad(e.to_string()))?;
+    let mut rows = BTreeMap::new();
+    for batch in reader {
+        let batch = batch.map_err(|e| bad(e.to_string()))?;
+        let batch = RecordBatch::try_new(schema.clone(), batch.columns().to_vec())
+            .map_err(|e| bad(e.to_string()))?;
+        let ids = batch
+            .column(0)
+            .as_any()
+            .downcast_ref::<StringArray>()
+            .ok_or_else(|| bad("its first column is not `log_id`".into()))?;
+        // Each log's rows are together (the table is sorted by log_id).
+        let mut at = 0;
+        while at < ids.len() {
+            let id = ids.value(at);
+            let end = (at..ids.len())
+                .find(|&i| ids.value(i) != id)
+                .unwrap_or(ids.len());
+            let piece = batch.slice(at, end - at);
+            rows.entry(id.to_owned())
+                .or_insert_with(Vec::new)
+                .push(piece);
+            at = end;
+        }
+    }
+    Ok(rows)
+}
+
+/// Writes a table: every log's rows, by log_id (to a partial file, renamed when done).
+fn write_table(
+    path: &Path,
+    schema: &SchemaRef,
+    rows: &BTreeMap<String, Vec<RecordBatch>>,
+    options: &Options,
+) -> Result<()> {
+    // One batch, however the rows came (read back or new): the writer's pages then do
+    // not depend on it, and the file is the same byte for byte.
+    let all = arrow_select::concat::concat_batches(schema, rows.values().flatten())
+        .map_err(ExportError::encoding)?;
+    let partial = path.with_extension("parquet.partial");
+    let result = (|| {
+        let file = File::create(&partial).map_err(|e| ExportError::io(e, path))?;
+        let props = parquet::file::properties::WriterProperties::builder()
+            .set_compression(compression_of(options.compression))
+            .build();
+        let mut writer =
+            ArrowWriter::try_new(std::io::BufWriter::new(file), schema.clone(), Some(props))
+                .map_err(|e| write_error(path, e))?;
+        writer.write(&all).map_err(|e| write_error(path, e))?;
+        writer.close().map_err(|e| write_error(path, e))?;
+        std::fs::rename(&partial, path).map_err(|e| ExportError::io(e, path))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    result
+}
