@@ -13,6 +13,7 @@
 mod common;
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value as Json;
@@ -84,6 +85,19 @@ fn convert(logs: &[PathBuf], dir: &Path, extra: &[&str]) -> std::process::Output
     common::ulog(args)
 }
 
+/// A dataset of the whole corpus in the scratch folder `name`, and the logs.
+fn corpus_dataset(name: &str) -> (PathBuf, Vec<PathBuf>) {
+    let dir = common::scratch(name).join("dataset");
+    let logs = logs();
+    let out = convert(&logs, &dir, &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (dir, logs)
+}
+
 fn json_text(v: &Json) -> Option<String> {
     v.as_str().map(str::to_owned)
 }
@@ -94,14 +108,7 @@ fn json_text(v: &Json) -> Option<String> {
     ignore = "needs python3 with duckdb and datafusion (pip install duckdb datafusion)"
 )]
 fn the_readmes_queries_answer_what_the_reader_says() {
-    let dir = common::scratch("fleet_queries").join("dataset");
-    let logs = logs();
-    let out = convert(&logs, &dir, &[]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (dir, logs) = corpus_dataset("fleet_queries");
 
     let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scripts/fleet_queries.py");
@@ -324,14 +331,7 @@ fn the_readmes_queries_answer_what_the_reader_says() {
 
 #[test]
 fn the_table_of_logs_says_what_the_reader_says() {
-    let dir = common::scratch("fleet_logs").join("dataset");
-    let logs = logs();
-    let out = convert(&logs, &dir, &[]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (dir, logs) = corpus_dataset("fleet_logs");
     let table = read(&dir.join("logs.parquet"));
     assert_eq!(table.num_rows(), logs.len());
     let text = |name: &str, i: usize| -> Option<String> {
