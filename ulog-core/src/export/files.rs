@@ -217,7 +217,8 @@ fn write_table(
 
 /// The writer properties of a table's files: its compression, its schema's metadata
 /// as the files' key-value metadata (sorted: the files are the same from run to run),
-/// and, for wide tables, no dictionaries and chunk statistics only.
+/// no dictionary for float and double columns, and, for wide tables, no dictionaries
+/// and chunk statistics only.
 pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterProperties {
     let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
     let compression = compression_of(options.compression);
@@ -228,7 +229,25 @@ pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterPropert
         .map(|(k, v)| KeyValue::new(k.clone(), v.clone()))
         .collect();
     metadata.sort_by(|a, b| a.key.cmp(&b.key));
-    WriterProperties::builder()
+    let mut builder = WriterProperties::builder();
+    // Float and double columns without a dictionary: sensor values seldom repeat, and
+    // interning values into dictionaries that are then given up was 12% of a
+    // one-thread export's time (perf, events×200, flattened). On the two ≈300 MB logs
+    // (zstd, flattened): 0.83x the time (log_61), files 9% smaller (events) and 5%
+    // larger (log_61).
+    if narrow {
+        if let Ok(parquet) = parquet::arrow::ArrowSchemaConverter::new().convert(&table.schema) {
+            for column in parquet.columns() {
+                if matches!(
+                    column.physical_type(),
+                    parquet::basic::Type::FLOAT | parquet::basic::Type::DOUBLE
+                ) {
+                    builder = builder.set_column_dictionary_enabled(column.path().clone(), false);
+                }
+            }
+        }
+    }
+    builder
         .set_compression(compression)
         .set_created_by(concat!("ulog-core ", env!("CARGO_PKG_VERSION")).to_owned())
         .set_key_value_metadata(Some(metadata))
