@@ -5,9 +5,10 @@ use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 
 use ::mcap::records::{MessageHeader, Metadata};
-use ::mcap::{McapError, Writer};
+use ::mcap::McapError;
 
 use super::fixed::{Fields, Fixed};
+use super::writer::McapWriter;
 use super::{channel_name, json, schema, McapEncoding, McapOptions, McapSkipped, McapWriteError};
 use crate::definitions::timestamp::Unwrapper;
 use crate::framing::{Framer, Record};
@@ -38,7 +39,7 @@ pub(super) struct Channel {
 }
 
 pub(super) struct Visitor<'o, W: Write + Seek> {
-    pub(super) writer: Writer<W>,
+    pub(super) writer: McapWriter<W>,
     pub(super) options: &'o McapOptions,
     pub(super) slots: Vec<Slot>,
     /// Each subscription's timestamps, unwrapped (version 0's narrow ones wrap).
