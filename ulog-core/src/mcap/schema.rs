@@ -206,19 +206,23 @@ fn push(steps: &mut Vec<Step>, step: Step) {
     steps.push(step);
 }
 
-/// Encodes `payload` by `plan` into `out` (cleared first) as little-endian CDR with
-/// its 4-byte encapsulation header. `None` when the payload is shorter than the plan
-/// reads (only trailing padding may be missing).
+/// Encodes `payload` by `plan` at the end of `out` as little-endian CDR with its
+/// 4-byte encapsulation header. `None`, and `out` as it was, when the payload is
+/// shorter than the plan reads (only trailing padding may be missing).
 pub(crate) fn encode(plan: &[Step], payload: &[u8], out: &mut Vec<u8>) -> Option<()> {
-    out.clear();
+    let base = out.len();
     out.extend_from_slice(&[0, 1, 0, 0]);
     for step in plan {
         match *step {
             Step::Copy { from, len, align } => {
-                let pos = out.len() - 4;
+                let Some(bytes) = payload.get(from..from + len) else {
+                    out.truncate(base);
+                    return None;
+                };
+                let pos = out.len() - base - 4;
                 let pad = (align - pos % align) % align;
                 out.resize(out.len() + pad, 0);
-                out.extend_from_slice(payload.get(from..from + len)?);
+                out.extend_from_slice(bytes);
             }
             Step::Empty => out.push(0),
         }
@@ -294,5 +298,6 @@ mod tests {
         expected.extend(32..47u8);
         assert_eq!(out, expected);
         assert_eq!(encode(&cdr_plan(&l), &payload[..40], &mut out), None);
+        assert_eq!(out, expected, "as it was");
     }
 }

@@ -5,9 +5,10 @@ use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 
 use ::mcap::records::{MessageHeader, Metadata};
-use ::mcap::{McapError, Writer};
+use ::mcap::McapError;
 
 use super::fixed::{Fields, Fixed};
+use super::writer::McapWriter;
 use super::{channel_name, json, schema, McapEncoding, McapOptions, McapSkipped, McapWriteError};
 use crate::definitions::timestamp::Unwrapper;
 use crate::framing::{Framer, Record};
@@ -38,7 +39,7 @@ pub(super) struct Channel {
 }
 
 pub(super) struct Visitor<'o, W: Write + Seek> {
-    pub(super) writer: Writer<W>,
+    pub(super) writer: McapWriter<W>,
     pub(super) options: &'o McapOptions,
     pub(super) slots: Vec<Slot>,
     /// Each subscription's timestamps, unwrapped (version 0's narrow ones wrap).
@@ -152,10 +153,7 @@ impl<W: Write + Seek> Visitor<'_, W> {
 
     fn write(&mut self, channel: u16, sequence: u32, t: u64) -> Result<(), McapError> {
         let time = self.nanos(t);
-        self.time_range = Some(match self.time_range {
-            Some((a, b)) => (a.min(time), b.max(time)),
-            None => (time, time),
-        });
+        self.time_range = widen(self.time_range, time);
         self.writer.write_to_known_channel(
             &MessageHeader {
                 channel_id: channel,
@@ -364,24 +362,44 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
             Slot::Same(first) => first,
             _ => i,
         };
+        if !matches!(self.slots[i], Slot::Open(_)) || !self.options.contains(t) {
+            return Hand::Next;
+        }
+        let time = self.nanos(t);
         let Slot::Open(c) = &mut self.slots[i] else {
             return Hand::Next;
         };
-        if !self.options.contains(t) {
-            return Hand::Next;
-        }
-        let encoded = match self.options.encoding {
-            McapEncoding::Ros2 => schema::encode(&c.plan, r.payload, &mut self.buf),
-            McapEncoding::Json => json::encode_json(&c.layout, r.payload, &mut self.buf),
+        let header = MessageHeader {
+            channel_id: c.id,
+            sequence: (c.messages + 1) as u32,
+            log_time: time,
+            publish_time: time,
         };
-        if encoded.is_none() {
-            self.short_messages += 1;
-            return Hand::Next;
-        }
-        c.messages += 1;
-        let (id, sequence) = (c.id, c.messages as u32);
-        match self.write(id, sequence, t) {
-            Ok(()) => Hand::Next,
+        let written = match self.options.encoding {
+            McapEncoding::Ros2 => {
+                let plan = &c.plan;
+                self.writer.write_with(&header, |out| {
+                    schema::encode(plan, r.payload, out).is_some()
+                })
+            }
+            McapEncoding::Json => match json::encode_json(&c.layout, r.payload, &mut self.buf) {
+                Some(()) => self
+                    .writer
+                    .write_to_known_channel(&header, &self.buf)
+                    .map(|()| true),
+                None => Ok(false),
+            },
+        };
+        match written {
+            Ok(true) => {
+                c.messages += 1;
+                self.time_range = widen(self.time_range, time);
+                Hand::Next
+            }
+            Ok(false) => {
+                self.short_messages += 1;
+                Hand::Next
+            }
             Err(e) => {
                 self.error = Some(e);
                 Hand::Stop
@@ -398,6 +416,11 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
             }
         }
     }
+}
+
+/// `range` grown to hold `time`.
+fn widen(range: Option<(u64, u64)>, time: u64) -> Option<(u64, u64)> {
+    Some(range.map_or((time, time), |(a, b)| (a.min(time), b.max(time))))
 }
 
 /// A value as metadata text: strings as they are, numbers as Rust prints them.
