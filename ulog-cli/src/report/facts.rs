@@ -11,8 +11,8 @@ use crate::pyfmt::py_str;
 /// One header row: what, and its value.
 pub type Row = (String, String);
 
-/// The header rows.
-pub fn header(log: &ULog<'_>, figures: &Figures, armed_s: f64) -> Vec<Row> {
+/// The header rows; times from `start` (microseconds since boot).
+pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Vec<Row> {
     let mut rows: Vec<Row> = Vec::new();
     let mut add = |k: &str, v: String| rows.push((k.to_owned(), v));
     let info = |key: &str| log.info_value(key).map(|v| py_str(&v));
@@ -55,7 +55,6 @@ pub fn header(log: &ULog<'_>, figures: &Figures, armed_s: f64) -> Vec<Row> {
             sw.join(", ")
         },
     );
-    let start = log.start_timestamp();
     add(
         "Start",
         match log.utc() {
@@ -152,10 +151,10 @@ fn param(log: &ULog<'_>, name: &str) -> Option<String> {
     log.params_at_end().get(name).map(py_str)
 }
 
-/// The logged messages and events as `ulog messages` shows them: (seconds since the
-/// log's start, level, text).
-pub fn messages(log: &ULog<'_>) -> Vec<(f64, &'static str, String)> {
-    let start = log.start_timestamp() as f64;
+/// The logged messages and events as `ulog messages` shows them: (seconds since
+/// `start`, level, text).
+pub fn messages(log: &ULog<'_>, start: u64) -> Vec<(f64, &'static str, String)> {
+    let start = start as f64;
     let (lines, _) = crate::messages::lines(log, &EventOptions::default(), false);
     lines
         .into_iter()
@@ -173,9 +172,9 @@ pub fn params_vs_defaults(log: &ULog<'_>) -> Vec<[String; 3]> {
         .collect()
 }
 
-/// Parameters set during the flight: (seconds since the log's start, name, value).
-pub fn params_changed(log: &ULog<'_>) -> Vec<(f64, String, String)> {
-    let start = log.start_timestamp() as f64;
+/// Parameters set during the flight: (seconds since `start`, name, value).
+pub fn params_changed(log: &ULog<'_>, start: u64) -> Vec<(f64, String, String)> {
+    let start = start as f64;
     log.param_changes()
         .iter()
         .map(|c| {

@@ -21,6 +21,8 @@ const REPORT_CSS: &str = include_str!("../../assets/report/report.css");
 /// What the script draws.
 #[derive(Debug, Serialize)]
 pub struct Drawn {
+    /// Time zero of the page: microseconds since boot.
+    pub origin_us: u64,
     /// The log's duration in seconds (the time axis of every plot).
     pub duration: f64,
     /// Flight modes, behind every time plot.

@@ -66,7 +66,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let file = input::open(&args.file)?;
     let log = input::parse(&name, file.bytes())?;
-    let start = log.start_timestamp();
+    let start = time_origin(&log);
     let end = log.last_timestamp().max(start);
 
     let timeline = flight::timeline(&log, start, end);
@@ -92,7 +92,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let track = flight::track(&log, TRACK_POINTS);
     let mut marks = timeline.marks;
-    let messages = facts::messages(&log);
+    let messages = facts::messages(&log, start);
     for (t, level, text) in &messages {
         if html::severity(level) <= 3 {
             marks.push(flight::Mark {
@@ -108,15 +108,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .file
             .file_name()
             .map_or_else(|| name.clone(), |n| n.to_string_lossy().into_owned()),
-        header: facts::header(&log, &figures, timeline.armed_s),
+        header: facts::header(&log, start, &figures, timeline.armed_s),
         missing,
         notes,
         params_vs_defaults: facts::params_vs_defaults(&log),
-        params_changed: facts::params_changed(&log),
+        params_changed: facts::params_changed(&log, start),
         messages,
         info,
         multi,
         drawn: html::Drawn {
+            origin_us: start,
             duration: (end - start) as f64 / 1e6,
             modes: timeline.modes,
             marks,
@@ -143,6 +144,22 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         open_in_browser(&out).map_err(|e| Failure::about(&shown, e))?;
     }
     Ok(())
+}
+
+/// Time zero of the page: the header's timestamp, or where that is zero (a writer
+/// that does not set it, or a log whose uploader zeroed it) the first data timestamp.
+fn time_origin(log: &ulog_core::ULog<'_>) -> u64 {
+    let header = log.start_timestamp();
+    if header != 0 {
+        return header;
+    }
+    log.topics()
+        .filter_map(|t| {
+            let mut clock = ulog_core::read::Unwrapper::new(t.timestamp_field());
+            t.payloads().next().and_then(|p| clock.push(p))
+        })
+        .min()
+        .unwrap_or(0)
 }
 
 /// `<FILE without its extension>_report.html`, next to FILE.

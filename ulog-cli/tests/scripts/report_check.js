@@ -33,6 +33,8 @@ async function main() {
     await page.waitForFunction(() => window.ulogReport && window.ulogReport.ready, null,
       { timeout: 20000 });
     out.requests = out.requests.filter((u) => u !== url);
+    out.origin_us = await page.evaluate(() =>
+      JSON.parse(document.getElementById("report-data").textContent).origin_us);
 
     // Per plot: pixels of the canvas in one of its lines' colours, fully opaque.
     out.plots = await page.evaluate(() => {
