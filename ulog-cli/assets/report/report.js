@@ -41,6 +41,8 @@
           ctx.save();
           ctx.lineWidth = dpr;
           ctx.font = (10 * dpr) + "px sans-serif";
+          // Labels closer than 60 px to the previous one go a line lower.
+          var lastX = -Infinity, row = 0;
           data.marks.forEach(function (m) {
             var x = u.valToPos(m.t, "x", true);
             if (x < b.left || x > b.left + b.width) return;
@@ -51,8 +53,10 @@
             ctx.lineTo(x, b.top + b.height);
             ctx.stroke();
             if (m.kind !== "error") {
+              row = x - lastX < 60 * dpr ? (row + 1) % 4 : 0;
+              lastX = x;
               ctx.fillStyle = ctx.strokeStyle;
-              ctx.fillText(m.text, x + 2 * dpr, b.top + 10 * dpr);
+              ctx.fillText(m.text, x + 2 * dpr, b.top + (10 + 11 * row) * dpr);
             }
           });
           ctx.restore();

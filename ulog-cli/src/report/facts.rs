@@ -16,13 +16,25 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
     let mut rows: Vec<Row> = Vec::new();
     let mut add = |k: &str, v: String| rows.push((k.to_owned(), v));
     let info = |key: &str| log.info_value(key).map(|v| py_str(&v));
-    let vehicle = match (info("sys_name"), param(log, "SYS_AUTOSTART")) {
-        (Some(n), Some(a)) => format!("{n}, airframe {a}"),
-        (Some(n), None) => n,
-        (None, Some(a)) => format!("airframe {a}"),
-        (None, None) => "not logged (no sys_name)".into(),
-    };
-    add("Vehicle", vehicle);
+    let mut vehicle: Vec<String> = Vec::new();
+    vehicle.extend(info("sys_name"));
+    if let Some(t) = param(log, "MAV_TYPE") {
+        vehicle.push(match vehicle_type(&t) {
+            Some(kind) => format!("{kind} (MAV_TYPE {t})"),
+            None => format!("MAV_TYPE {t}"),
+        });
+    }
+    if let Some(a) = param(log, "SYS_AUTOSTART") {
+        vehicle.push(format!("airframe {a} (SYS_AUTOSTART)"));
+    }
+    add(
+        "Vehicle",
+        if vehicle.is_empty() {
+            "not logged (no sys_name, MAV_TYPE or SYS_AUTOSTART)".into()
+        } else {
+            vehicle.join(", ")
+        },
+    );
     if let Some(uuid) = info("sys_uuid") {
         add("Vehicle UUID", uuid);
     }
@@ -138,6 +150,25 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
         },
     );
     rows
+}
+
+/// The kind of vehicle of a MAVLink `MAV_TYPE` value (as PX4 sets it).
+fn vehicle_type(mav_type: &str) -> Option<&'static str> {
+    Some(match mav_type {
+        "1" => "fixed wing",
+        "2" => "quadrotor",
+        "3" => "coaxial helicopter",
+        "4" => "helicopter",
+        "7" => "airship",
+        "10" => "ground rover",
+        "11" => "surface boat",
+        "12" => "submarine",
+        "13" => "hexarotor",
+        "14" => "octorotor",
+        "15" => "tricopter",
+        "19" | "20" | "21" | "22" => "VTOL",
+        _ => return None,
+    })
 }
 
 /// `h:mm:ss` of seconds.

@@ -102,6 +102,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             });
         }
     }
+    marks.sort_by(|a, b| a.t.total_cmp(&b.t));
     let (info, multi) = facts::information(&log);
     let page = html::Page {
         title: args
