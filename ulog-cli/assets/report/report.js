@@ -19,12 +19,12 @@
     return "hsla(" + ((mode * 67) % 360) + ",70%,55%," + alpha + ")";
   }
 
-  // Flight modes behind the lines, marks over them.
+  // Flight modes and marks behind the lines, so that dense marks never hide data.
   function backdrop() {
     return {
       hooks: {
         drawClear: function (u) {
-          var ctx = u.ctx, b = u.bbox;
+          var ctx = u.ctx, b = u.bbox, dpr = window.devicePixelRatio || 1;
           ctx.save();
           data.modes.forEach(function (m) {
             var x0 = Math.max(u.valToPos(m.t0, "x", true), b.left);
@@ -34,14 +34,10 @@
               ctx.fillRect(x0, b.top, x1 - x0, b.height);
             }
           });
-          ctx.restore();
-        },
-        draw: function (u) {
-          var ctx = u.ctx, b = u.bbox, dpr = window.devicePixelRatio || 1;
-          ctx.save();
           ctx.lineWidth = dpr;
           ctx.font = (10 * dpr) + "px sans-serif";
-          // Labels closer than 60 px to the previous one go a line lower.
+          // A label closer than 60 px to the previous one goes a line lower; below
+          // four lines it is left out (the mark's line stays).
           var lastX = -Infinity, row = 0;
           data.marks.forEach(function (m) {
             var x = u.valToPos(m.t, "x", true);
@@ -52,12 +48,19 @@
             ctx.moveTo(x, b.top);
             ctx.lineTo(x, b.top + b.height);
             ctx.stroke();
-            if (m.kind !== "error") {
-              row = x - lastX < 60 * dpr ? (row + 1) % 4 : 0;
+            if (m.kind === "error") return;
+            if (x - lastX < 60 * dpr) {
+              row += 1;
+              if (row > 3) return;
+            } else {
+              row = 0;
               lastX = x;
-              ctx.fillStyle = ctx.strokeStyle;
-              ctx.fillText(m.text, x + 2 * dpr, b.top + (10 + 11 * row) * dpr);
             }
+            ctx.fillStyle = ctx.strokeStyle;
+            // Left of the line where the text would run past the plot's right edge.
+            var w = ctx.measureText(m.text).width;
+            var tx = x + 2 * dpr + w > b.left + b.width ? x - 2 * dpr - w : x + 2 * dpr;
+            ctx.fillText(m.text, tx, b.top + (10 + 11 * row) * dpr);
           });
           ctx.restore();
         }
