@@ -10,6 +10,8 @@
 //!   value where the mouse hovers the battery plot equals this reader's
 //!   `battery_status.voltage_v` at the shown time; the messages table has a row per
 //!   line of `ulog messages`, and its level filter hides the lower levels.
+//! - A 100 MB log built here: the page stays small and thinned (spikes kept), and the
+//!   command runs within the file's size plus 64 MiB of data segment.
 
 mod common;
 
@@ -312,4 +314,73 @@ fn pages_draw_zoom_together_hover_reader_values_and_list_every_message() {
             .count() as u64;
         assert_eq!(r["messagesShownAtError"], errors, "{stem}: ERROR and above");
     }
+}
+
+/// A long log of IMU rows (`sensor_combined`, 3 axes of gyro and accelerometer plus
+/// padding to 80 bytes): `rows` rows, 4 ms apart.
+fn long_imu_log(rows: u64) -> Vec<u8> {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 1_000_000);
+    b.info("char[3] sys_name", b"PX4");
+    b.format(
+        "sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2;\
+         uint8_t[48] _padding0;",
+    );
+    b.subscribe(0, 0, "sensor_combined");
+    for i in 0..rows {
+        let mut p = (1_000_000 + i * 4000).to_le_bytes().to_vec();
+        let phase = i as f32 * 0.01;
+        for k in 0..6 {
+            let spike = if i == rows / 3 && k == 4 { 80.0 } else { 0.0 };
+            p.extend_from_slice(&((phase + k as f32).sin() + spike).to_le_bytes());
+        }
+        p.extend_from_slice(&[0; 48]);
+        b.data(0, &p);
+    }
+    b.into_bytes()
+}
+
+/// Memory and size of the report of a 100 MB log: it runs with its data segment (heap
+/// and private writable mappings) limited to the file's size plus 64 MiB, that is the
+/// snapshot of the file every `ulog` command reads (`LogFile::open`) and a bounded rest:
+/// no second copy and no row kept per message; its page keeps at most 2 + 2 × lines
+/// rows per column of each table, spikes included.
+#[test]
+fn a_long_log_gives_a_small_page_in_bounded_memory() {
+    let dir = common::scratch("report-long");
+    let log = dir.join("long.ulg");
+    let bytes = long_imu_log(1_200_000);
+    std::fs::write(&log, &bytes).unwrap();
+    let out = dir.join("long.html");
+    let limit_kib = bytes.len() as u64 / 1024 + 64 * 1024;
+    drop(bytes);
+    let run = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -d {limit_kib} && exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_ulog"))
+        .args([
+            OsStr::new("report"),
+            log.as_os_str(),
+            OsStr::new("-o"),
+            out.as_os_str(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "ulog report within {} MiB: {:?}\n{}",
+        limit_kib / 1024,
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(html.len() < 3 << 20, "{} bytes", html.len());
+    let data = page_data(&html);
+    assert_eq!(plot_ids(&data), ["accel", "gyro"]);
+    let accel = &data["plots"][0]["tables"][0];
+    assert_eq!(accel["thinned"], true);
+    let kept = accel["x"].as_array().unwrap().len();
+    assert!(kept <= 2000 * (2 + 2 * 3), "{kept} rows kept");
+    let z = accel["y"][1].as_array().unwrap();
+    let top = z.iter().filter_map(Json::as_f64).fold(f64::MIN, f64::max);
+    assert!(top > 79.0, "the spike survives: {top}");
 }
