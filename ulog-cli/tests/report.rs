@@ -10,6 +10,8 @@
 //!   value where the mouse hovers the battery plot equals this reader's
 //!   `battery_status.voltage_v` at the shown time; the messages table has a row per
 //!   line of `ulog messages`, and its level filter hides the lower levels.
+//! - Every corpus log's page in Chromium: no console error or request, every plot on
+//!   it drawn, every message listed.
 //! - A 100 MB log built here: the page stays small and thinned (spikes kept), and the
 //!   command runs within the file's size plus 64 MiB of data segment.
 
@@ -297,7 +299,10 @@ fn pages_draw_zoom_together_hover_reader_values_and_list_every_message() {
                     .to_owned()
             };
             let t: f64 = get("time").trim_end_matches(" s").parse().expect("time");
-            let at = r["origin_us"].as_u64().unwrap() + (t * 1e6).round() as u64;
+            // Times before the page's zero (data older than the first message) are
+            // negative.
+            let at = r["origin_us"].as_u64().unwrap() as i64 + (t * 1e6).round() as i64;
+            let at = u64::try_from(at).expect("a time after boot");
             let shown: f32 = get("voltage [V]").parse().expect("a number");
             assert_eq!(shown, voltage_at(stem, at), "{stem}: voltage at {t} s");
         }
@@ -383,4 +388,29 @@ fn a_long_log_gives_a_small_page_in_bounded_memory() {
     let z = accel["y"][1].as_array().unwrap();
     let top = z.iter().filter_map(Json::as_f64).fold(f64::MIN, f64::max);
     assert!(top > 79.0, "the spike survives: {top}");
+}
+
+#[test]
+#[cfg_attr(
+    not(chromium),
+    ignore = "needs /usr/bin/chromium with playwright-core in target/node (.ci/run installs \
+              both)"
+)]
+fn every_corpus_logs_page_opens_cleanly_and_draws_every_plot() {
+    for (stem, _) in common::corpus_logs(&common::corpus()) {
+        let (page, html) = report(&stem);
+        let r = browse(&page, "battery", None);
+        assert_eq!(r["errors"], serde_json::json!([]), "{stem}: console errors");
+        assert_eq!(r["requests"], serde_json::json!([]), "{stem}: requests");
+        for id in plot_ids(&page_data(&html)) {
+            let px = r["plots"][&id]["linePixels"].as_u64().unwrap_or(0);
+            assert!(px > 20, "{stem}: plot {id} is drawn ({px} line pixels)");
+        }
+        let lines = common::ulog_ok([OsStr::new("messages"), log_path(&stem).as_os_str()]);
+        assert_eq!(
+            r["messages"],
+            lines.lines().count() as u64,
+            "{stem}: rows of the messages table"
+        );
+    }
 }

@@ -4,14 +4,16 @@
 (function () {
   "use strict";
   var data = JSON.parse(document.getElementById("report-data").textContent);
+  // Line colours: none of them grey, as the axes and grid are.
   var COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
-    "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"];
+    "#e377c2", "#17becf", "#393b79", "#bcbd22"];
   // Apart from the line colours, so that tests can tell lines from marks.
   var MARK_COLORS = { arm: "#006400", disarm: "#444444", takeoff: "#0000cd",
     landing: "#8b008b", error: "#ff0000" };
   var plots = [];
-  // For tests and the curious: the uPlot instances, by plot id.
-  var api = { plots: {}, ready: false };
+  // For tests and the curious: the uPlot instances, by plot id; `plain` leaves the
+  // bands and marks out of the next redraw (a test counts the lines' own pixels).
+  var api = { plots: {}, ready: false, plain: false };
   window.ulogReport = api;
   var syncing = false;
 
@@ -24,6 +26,7 @@
     return {
       hooks: {
         drawClear: function (u) {
+          if (api.plain) return;
           var ctx = u.ctx, b = u.bbox, dpr = window.devicePixelRatio || 1;
           ctx.save();
           data.modes.forEach(function (m) {
@@ -86,6 +89,18 @@
     return v == null ? "—" : v.toFixed(6) + " s";
   }
 
+  // A tenth of the span above and below, so that lines at the extremes stay inside
+  // the plot; a constant line gets ±1 (or ±10 %) around it.
+  function yRange(u, min, max) {
+    if (min == null || max == null) return [0, 1];
+    if (min === max) {
+      var d = Math.max(Math.abs(min) * 0.1, 1);
+      return [min - d, max + d];
+    }
+    var pad = (max - min) * 0.1;
+    return [min - pad, max + pad];
+  }
+
   function addPlot(p) {
     var box = document.createElement("section");
     box.className = "plot";
@@ -107,11 +122,14 @@
     var n = 0;
     p.tables.forEach(function (t) {
       t.labels.forEach(function (label) {
+        var color = COLORS[n % COLORS.length];
         series.push({
           label: label,
-          stroke: COLORS[n % COLORS.length],
+          stroke: color,
           width: 1,
           spanGaps: tables.length > 1,
+          // A few samples (one, even) are dots as well as a line.
+          points: { show: t.x.length < 50, size: 5, stroke: color, fill: color },
           value: valueText
         });
         n += 1;
@@ -121,14 +139,14 @@
       width: plotWidth(),
       height: 260,
       series: series,
-      scales: { x: { time: false } },
+      scales: { x: { time: false }, y: { range: yRange } },
       axes: [{ label: "seconds since the log's start" }, { label: p.unit, size: 60 }],
       cursor: {
         sync: { key: "ulog-report", setSeries: false },
         drag: { x: true, y: false },
         bind: {
           dblclick: function () {
-            return function () { zoomAll(0, data.duration); return null; };
+            return function () { zoomAll(extent[0], extent[1]); return null; };
           }
         }
       },
@@ -245,9 +263,24 @@
     });
   }
 
+  // The whole view: the log's duration, widened to any data before or after it, or
+  // narrowed to the data where it fills only a sliver of it.
+  var extent = (function () {
+    var lo = Infinity, hi = -Infinity;
+    data.plots.forEach(function (p) {
+      p.tables.forEach(function (t) {
+        lo = Math.min(lo, t.x[0]);
+        hi = Math.max(hi, t.x[t.x.length - 1]);
+      });
+    });
+    if (!(hi > lo)) return [0, Math.max(data.duration, 1e-6)];
+    return [lo, hi];
+  })();
+  api.extent = extent;
+
   modesLegend();
   data.plots.forEach(addPlot);
-  zoomAll(0, data.duration);
+  zoomAll(extent[0], extent[1]);
   drawTrack();
   levelFilter();
   var resizing = null;

@@ -36,22 +36,32 @@ async function main() {
     out.origin_us = await page.evaluate(() =>
       JSON.parse(document.getElementById("report-data").textContent).origin_us);
 
-    // Per plot: pixels of the canvas in one of its lines' colours, fully opaque.
-    out.plots = await page.evaluate(() => {
-      const hex = (c) => [1, 3, 5].map((i) => parseInt(c.slice(i, i + 2), 16));
+    // Per plot: coloured pixels (axes, grid and text are grey; no line colour is),
+    // at least a quarter opaque, drawn without the flight-mode bands and marks, so
+    // that what is counted is lines (overlapping lines mix their colours, which
+    // stay coloured).
+    out.plots = await page.evaluate(async () => {
+      const api = window.ulogReport;
+      const frame = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+      api.plain = true;
+      Object.values(api.plots).forEach((u) => u.redraw(false, false));
+      await frame();
       const res = {};
-      for (const [id, u] of Object.entries(window.ulogReport.plots)) {
-        const colors = u.series.slice(1).map((s) => hex(s._stroke || s.stroke()));
+      for (const [id, u] of Object.entries(api.plots)) {
         const c = u.ctx.canvas;
         const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
         let line = 0;
         for (let i = 0; i < px.length; i += 4) {
-          if (px[i + 3] < 250) continue;
-          if (colors.some((k) => Math.abs(k[0] - px[i]) < 8 && Math.abs(k[1] - px[i + 1]) < 8
-            && Math.abs(k[2] - px[i + 2]) < 8)) line += 1;
+          if (px[i + 3] < 64) continue;
+          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
+          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
+          if (hi - lo >= 24) line += 1;
         }
         res[id] = { linePixels: line, series: u.series.length - 1 };
       }
+      api.plain = false;
+      Object.values(api.plots).forEach((u) => u.redraw(false, false));
+      await frame();
       return res;
     });
     out.track = await page.evaluate(() => {
