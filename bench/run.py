@@ -426,6 +426,12 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
                          [b["ulog"], "mcap", path, "-o", "{out}/log.mcap"],
                          out_dir=True, baseline=False,
                          note="CDR messages, ros2msg schemas, 1 MiB zstd chunks"))
+    # The flight report (one HTML page): under 3 s per 300 MB of log (issue 28).
+    if cli_has(b["ulog"], "report"):
+        P.append(Program("report", "ours (ulog report)",
+                         [b["ulog"], "report", path, "-o", "{out}/report.html"],
+                         out_dir=True, baseline=False,
+                         note="one HTML page: header, standard plots thinned, tables"))
     # Parquet export: run when the CLI was built with its `parquet` subcommand.
     if parquet:
         # Snappy, as the rows of earlier runs (the default is zstd since datasets).
@@ -618,6 +624,9 @@ def targets(results, size):
     ratio("events (ulog messages) ≤ 0.1 × pyulog ulog_messages", t("ours (ulog messages)"),
           t("pyulog 1.3 ulog_messages"), 0.1)
     ratio("MCAP export ≤ CSV export (ulog csv)", t("ours (ulog mcap)"), t("ours (ulog csv)"), 1.0)
+    # Measured as a fraction of the time allowed for this log's size.
+    ratio("flight report ≤ 3 s per 300 MB of log", t("ours (ulog report)"), 3.0 * size / 300e6, 1.0)
+    ratio("flight report peak RSS ≤ 2 × file size + 320 MiB", rss("ours (ulog report)"), bound, 1.0)
     return out
 
 

@@ -11,7 +11,9 @@
 // `cfg(simplekml)` where it can import simplekml too (pyulog's `ulog2kml`), and
 // `cfg(mcap_readers)` where it can import `mcap`, `mcap_ros2`, `rosbags` and
 // `jsonschema`, `cfg(query_engines)` where it can import `duckdb` and `datafusion`
-// (which run the README's fleet queries). With
+// (which run the README's fleet queries); `cfg(chromium)` where `/usr/bin/chromium`
+// exists and `node` can require `playwright-core` from `target/node` of the workspace
+// (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise). With
 // `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
 // the build instead, so that no test is ignored there.
 
@@ -20,7 +22,7 @@
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
     println!(
-        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines)"
+        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, chromium)"
     );
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
@@ -73,6 +75,27 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
         } else if require {
             panic!("ULOG_REQUIRE_ALL_TESTS is set but python3 cannot import {what}");
         }
+    }
+    // Headless Chromium driven by playwright-core (npm) with the system's browser, for
+    // the reports' page checks.
+    let node_path = manifest.join("../target/node/node_modules");
+    println!(
+        "cargo::rustc-env=ULOG_TESTS_NODE_PATH={}",
+        node_path.display()
+    );
+    let found = Path::new("/usr/bin/chromium").exists()
+        && std::process::Command::new("node")
+            .args(["-e", "require('playwright-core')"])
+            .env("NODE_PATH", &node_path)
+            .output()
+            .is_ok_and(|o| o.status.success());
+    if found {
+        println!("cargo::rustc-cfg=chromium");
+    } else if require {
+        panic!(
+            "ULOG_REQUIRE_ALL_TESTS is set but /usr/bin/chromium or playwright-core \
+             (npm install --prefix target/node playwright-core) is missing"
+        );
     }
     corpus
 }

@@ -32,10 +32,9 @@ impl Status {
 
 /// The `Exit status` section of `ulog --help`.
 pub const EXIT_STATUS_HELP: &str = "\
-Exit status:
-  0  success; 1  `check` found damage or spec departures; 2  usage error
-  3  a file could not be read or written; 4  not a ULog log, or one to refuse
-  5  a topic or field name is not in the log; 6  any other failure";
+Exit status: 0 success, 1 `check` found damage or spec departures, 2 bad usage,
+  3 a file could not be read or written, 4 not a ULog log or one to refuse,
+  5 a topic or field name is not in the log, 6 any other failure";
 
 /// What ended a command early.
 #[derive(Debug)]

@@ -25,6 +25,7 @@ mod parquet;
 mod plot;
 mod progress;
 mod pyfmt;
+mod report;
 
 use std::process::ExitCode;
 
@@ -58,6 +59,7 @@ enum Command {
     Mcap(mcap::Args),
     Plot(plot::Args),
     Kml(kml::Args),
+    Report(report::Args),
     GpsDump(gps_dump::Args),
 }
 
@@ -79,6 +81,7 @@ fn main() -> ExitCode {
         Command::Mcap(a) => done(mcap::run(&a)),
         Command::Plot(a) => done(plot::run(&a)),
         Command::Kml(a) => done(kml::run(&a)),
+        Command::Report(a) => done(report::run(&a)),
         Command::GpsDump(a) => done(gps_dump::run(&a)),
     };
     match result {

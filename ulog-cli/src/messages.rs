@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use ulog_core::events::{EventFinding, EventOptions, Metadata};
 use ulog_core::read::LogLevel;
-use ulog_core::Value;
+use ulog_core::{ULog, Value};
 
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
@@ -62,16 +62,37 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let metadata = Metadata::from_bytes(&bytes).map_err(|e| Failure::about(&shown, e))?;
         options = options.metadata(metadata);
     }
+    let (lines, findings) = lines(&log, &options, args.no_tagged);
+    let mut stderr = io::stderr();
+    for f in &findings {
+        let _ = writeln!(stderr, "ulog: {name}: {f}");
+    }
+    let utc = input::utc_clock(&name, &log, args.utc)?;
+    let mut out = BufWriter::new(io::stdout().lock());
+    for (t, level, text) in &lines {
+        match &utc {
+            Some(clock) => writeln!(out, "{:.3} {level}: {text}", clock.at(*t)),
+            None => writeln!(out, "{}", line(*t, level, text)),
+        }
+        .map_err(stdout_err)?;
+    }
+    out.flush().map_err(stdout_err)
+}
+
+/// The messages `ulog messages` prints, as (timestamp, level name, text) in its order,
+/// with what decoding the events found (printed by the caller).
+pub fn lines(
+    log: &ULog<'_>,
+    options: &EventOptions,
+    no_tagged: bool,
+) -> (Vec<(u64, &'static str, String)>, Vec<EventFinding>) {
     // (timestamp, level, text), events first.
     let mut lines: Vec<(u64, &'static str, String)> = Vec::new();
+    let mut findings = Vec::new();
     let px4 = matches!(log.info_value("sys_name"), Some(Value::Str(s)) if s.as_bytes() == b"PX4");
     let mut decoded = false;
     if px4 {
-        let events = log.events(&options);
-        let mut stderr = io::stderr();
-        for f in &events.findings {
-            let _ = writeln!(stderr, "ulog: {name}: {f}");
-        }
+        let events = log.events(options);
         decoded = !events
             .findings
             .iter()
@@ -79,9 +100,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         for e in events.iter().filter(|e| e.is_message()) {
             lines.push((e.timestamp, e.level_name(), e.text.clone()));
         }
+        findings = events.findings;
     }
     for m in log.logged_messages() {
-        if args.no_tagged && m.tag.is_some() {
+        if no_tagged && m.tag.is_some() {
             continue;
         }
         let text = m.text.to_string();
@@ -96,16 +118,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if px4 {
         lines.sort_by_key(|l| l.0); // stable, as Python's sort
     }
-    let utc = input::utc_clock(&name, &log, args.utc)?;
-    let mut out = BufWriter::new(io::stdout().lock());
-    for (t, level, text) in &lines {
-        match &utc {
-            Some(clock) => writeln!(out, "{:.3} {level}: {text}", clock.at(*t)),
-            None => writeln!(out, "{}", line(*t, level, text)),
-        }
-        .map_err(stdout_err)?;
-    }
-    out.flush().map_err(stdout_err)
+    (lines, findings)
 }
 
 /// `H:MM:SS.mmm LEVEL: text`.

@@ -19,6 +19,7 @@ const COMMANDS: &[(&str, &str)] = &[
     ("parquet", "parquet.rs"),
     ("plot", "plot.rs"),
     ("kml", "kml.rs"),
+    ("report", "report/mod.rs"),
     ("gps-dump", "gps_dump.rs"),
 ];
 

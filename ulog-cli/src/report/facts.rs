@@ -1,0 +1,248 @@
+//! The header of a report (vehicle, software, times, figures, damage) and its tables
+//! (messages, parameters, information), as text.
+
+use ulog_core::events::EventOptions;
+use ulog_core::read::{DefaultKind, KeyValue};
+use ulog_core::{ULog, Value};
+
+use super::flight::Figures;
+use crate::pyfmt::py_str;
+
+/// One header row: what, and its value.
+pub type Row = (String, String);
+
+/// The header rows; times from `start` (microseconds since boot).
+pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Vec<Row> {
+    let mut rows: Vec<Row> = Vec::new();
+    let mut add = |k: &str, v: String| rows.push((k.to_owned(), v));
+    let info = |key: &str| log.info_value(key).map(|v| py_str(&v));
+    let mut vehicle: Vec<String> = Vec::new();
+    vehicle.extend(info("sys_name"));
+    if let Some(t) = param(log, "MAV_TYPE") {
+        vehicle.push(match vehicle_type(&t) {
+            Some(kind) => format!("{kind} (MAV_TYPE {t})"),
+            None => format!("MAV_TYPE {t}"),
+        });
+    }
+    if let Some(a) = param(log, "SYS_AUTOSTART") {
+        vehicle.push(format!("airframe {a} (SYS_AUTOSTART)"));
+    }
+    add(
+        "Vehicle",
+        if vehicle.is_empty() {
+            "not logged (no sys_name, MAV_TYPE or SYS_AUTOSTART)".into()
+        } else {
+            vehicle.join(", ")
+        },
+    );
+    if let Some(uuid) = info("sys_uuid") {
+        add("Vehicle UUID", uuid);
+    }
+    let hw: Vec<String> = ["ver_hw", "ver_hw_subtype", "sys_mcu"]
+        .iter()
+        .filter_map(|k| info(k))
+        .collect();
+    add(
+        "Hardware",
+        if hw.is_empty() {
+            "not logged".into()
+        } else {
+            hw.join(", ")
+        },
+    );
+    let mut sw: Vec<String> = Vec::new();
+    if let Some(v) = log.release_version("ver_sw_release") {
+        sw.push(v.to_string());
+    }
+    for k in ["ver_sw", "ver_sw_branch", "sys_os_name", "sys_os_ver"] {
+        if let Some(v) = info(k) {
+            sw.push(format!("{k} {v}"));
+        }
+    }
+    add(
+        "Software",
+        if sw.is_empty() {
+            "not logged".into()
+        } else {
+            sw.join(", ")
+        },
+    );
+    add(
+        "Start",
+        match log.utc() {
+            Some(clock) => format!("{} UTC (from {})", clock.at(start), clock.source()),
+            None => format!(
+                "{:.3} s after boot (no UTC time in the log)",
+                start as f64 / 1e6
+            ),
+        },
+    );
+    let duration = log.last_timestamp().saturating_sub(start) as f64 / 1e6;
+    add("Duration", hms(duration));
+    if armed_s > 0.0 {
+        add("Armed", hms(armed_s));
+    }
+    let none = || "no vehicle_local_position".to_owned();
+    add(
+        "Distance flown",
+        figures
+            .distance_m
+            .map_or_else(none, |d| format!("{d:.1} m")),
+    );
+    add(
+        "Max altitude",
+        figures
+            .max_altitude_m
+            .map_or_else(none, |a| format!("{a:.1} m above the start")),
+    );
+    add(
+        "Max horizontal speed",
+        figures
+            .max_speed_m_s
+            .map_or_else(none, |v| format!("{v:.1} m/s ({:.1} km/h)", v * 3.6)),
+    );
+    add(
+        "Battery",
+        match &figures.battery {
+            Some(b) => {
+                let mut s = format!(
+                    "{:.2} V → {:.2} V, {:.0} % → {:.0} % remaining",
+                    b.voltage.0,
+                    b.voltage.1,
+                    b.remaining.0 * 100.0,
+                    b.remaining.1 * 100.0
+                );
+                if let Some(m) = b.discharged_mah {
+                    s.push_str(&format!(", {m:.0} mAh used"));
+                }
+                s
+            }
+            None => "no battery_status readings".into(),
+        },
+    );
+    let damage: Vec<String> = log
+        .findings()
+        .iter()
+        .filter(|f| f.is_damage())
+        .map(ToString::to_string)
+        .collect();
+    add(
+        "Damage",
+        if damage.is_empty() {
+            "none found".into()
+        } else {
+            format!("{} finding(s): {}", damage.len(), damage.join("; "))
+        },
+    );
+    let d = log.dropouts();
+    add(
+        "Dropouts",
+        if d.is_empty() {
+            "none".into()
+        } else {
+            let ms: Vec<u64> = d.iter().map(|d| u64::from(d.duration_ms)).collect();
+            format!(
+                "{} totalling {:.1} s, longest {} ms",
+                d.len(),
+                ms.iter().sum::<u64>() as f64 / 1000.0,
+                ms.iter().max().unwrap_or(&0)
+            )
+        },
+    );
+    rows
+}
+
+/// The kind of vehicle of a MAVLink `MAV_TYPE` value (as PX4 sets it).
+fn vehicle_type(mav_type: &str) -> Option<&'static str> {
+    Some(match mav_type {
+        "1" => "fixed wing",
+        "2" => "quadrotor",
+        "3" => "coaxial helicopter",
+        "4" => "helicopter",
+        "7" => "airship",
+        "10" => "ground rover",
+        "11" => "surface boat",
+        "12" => "submarine",
+        "13" => "hexarotor",
+        "14" => "octorotor",
+        "15" => "tricopter",
+        "19" | "20" | "21" | "22" => "VTOL",
+        _ => return None,
+    })
+}
+
+/// `h:mm:ss` of seconds.
+fn hms(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// A parameter's value at the end of the log, as text.
+fn param(log: &ULog<'_>, name: &str) -> Option<String> {
+    log.params_at_end().get(name).map(py_str)
+}
+
+/// The logged messages and events as `ulog messages` shows them: (seconds since
+/// `start`, level, text).
+pub fn messages(log: &ULog<'_>, start: u64) -> Vec<(f64, &'static str, String)> {
+    let start = start as f64;
+    let (lines, _) = crate::messages::lines(log, &EventOptions::default(), false);
+    lines
+        .into_iter()
+        .map(|(t, level, text)| ((t as f64 - start) / 1e6, level, text))
+        .collect()
+}
+
+/// Parameters whose value at the end differs from the system default the log gives:
+/// (name, value, default).
+pub fn params_vs_defaults(log: &ULog<'_>) -> Vec<[String; 3]> {
+    let text = |v: &Option<Value<'_>>| v.as_ref().map_or_else(|| "—".into(), py_str);
+    log.diff_param_defaults(DefaultKind::System)
+        .iter()
+        .map(|d| [d.name.clone(), text(&d.a), text(&d.b)])
+        .collect()
+}
+
+/// Parameters set during the flight: (seconds since `start`, name, value).
+pub fn params_changed(log: &ULog<'_>, start: u64) -> Vec<(f64, String, String)> {
+    let start = start as f64;
+    log.param_changes()
+        .iter()
+        .map(|c| {
+            (
+                (c.timestamp as f64 - start) / 1e6,
+                c.kv.name().into_owned(),
+                py_str(&c.kv.value()),
+            )
+        })
+        .collect()
+}
+
+/// Information (last value per key, in file order of first appearance) and
+/// multi-information (each entry's parts joined).
+pub fn information(log: &ULog<'_>) -> (Vec<Row>, Vec<Row>) {
+    let mut info: Vec<Row> = Vec::new();
+    for kv in log.info() {
+        let (k, v) = (kv.name().into_owned(), py_str(&kv.value()));
+        match info.iter_mut().find(|r| r.0 == k) {
+            Some(r) => r.1 = v,
+            None => info.push((k, v)),
+        }
+    }
+    let joined = |parts: &[KeyValue<'_>]| -> String {
+        parts
+            .iter()
+            .map(|kv| py_str(&kv.value()))
+            .collect::<Vec<_>>()
+            .join("")
+    };
+    let multi = log
+        .multi_info()
+        .iter()
+        .map(|m| {
+            let entries: Vec<String> = m.entries.iter().map(|e| joined(e)).collect();
+            (m.name.clone(), entries.join("\n"))
+        })
+        .collect();
+    (info, multi)
+}

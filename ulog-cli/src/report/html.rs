@@ -1,0 +1,262 @@
+//! The page: one HTML file with everything inside (uPlot, the glue script, styles and
+//! the data as JSON), so that it opens from disk with no network.
+//!
+//! The header and the tables are HTML written here (readable without scripts); the
+//! plots are drawn by `assets/report/report.js` from the JSON.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use super::facts::Row;
+use super::flight::{Mark, ModeBand};
+use super::plots::{Missing, Plot};
+
+const UPLOT_JS: &str = include_str!("../../assets/report/uPlot.iife.min.js");
+const UPLOT_CSS: &str = include_str!("../../assets/report/uPlot.min.css");
+const UPLOT_LICENSE: &str = include_str!("../../assets/report/LICENSE-uPlot.txt");
+const REPORT_JS: &str = include_str!("../../assets/report/report.js");
+const REPORT_CSS: &str = include_str!("../../assets/report/report.css");
+
+/// What the script draws.
+#[derive(Debug, Serialize)]
+pub struct Drawn {
+    /// Time zero of the page: microseconds since boot.
+    pub origin_us: u64,
+    /// The log's duration in seconds (the time axis of every plot).
+    pub duration: f64,
+    /// Flight modes, behind every time plot.
+    pub modes: Vec<ModeBand>,
+    /// Marked instants.
+    pub marks: Vec<Mark>,
+    /// The time plots.
+    pub plots: Vec<Plot>,
+    /// The track in local metres (east, north), if any.
+    pub track: Option<Vec<[f32; 2]>>,
+}
+
+/// Everything on the page.
+pub struct Page {
+    /// The log's file name.
+    pub title: String,
+    /// The header.
+    pub header: Vec<Row>,
+    /// Standard plots the log lacks data for.
+    pub missing: Vec<Missing>,
+    /// Notes on the whole report (e.g. a log without PX4's topics).
+    pub notes: Vec<String>,
+    /// (seconds, level, text).
+    pub messages: Vec<(f64, &'static str, String)>,
+    /// (name, value, default).
+    pub params_vs_defaults: Vec<[String; 3]>,
+    /// (seconds, name, value).
+    pub params_changed: Vec<(f64, String, String)>,
+    /// Information.
+    pub info: Vec<Row>,
+    /// Multi-information.
+    pub multi: Vec<Row>,
+    /// The drawn part.
+    pub drawn: Drawn,
+}
+
+/// `s` with `&`, `<`, `>` and `"` escaped.
+fn esc(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `h:mm:ss.mmm` of seconds since the log's start.
+fn clock(s: f64) -> String {
+    let ms = (s.max(0.0) * 1000.0).round() as u64;
+    let sec = ms / 1000;
+    format!(
+        "{}:{:02}:{:02}.{:03}",
+        sec / 3600,
+        sec / 60 % 60,
+        sec % 60,
+        ms % 1000
+    )
+}
+
+/// The page's HTML.
+pub fn render(page: &Page) -> Result<String, serde_json::Error> {
+    // `</` (or `<!--`) inside the JSON would end the script element early; `<` only
+    // occurs in JSON strings, where `\u003c` means the same.
+    let data = serde_json::to_string(&page.drawn)?.replace('<', "\\u003c");
+    let mut h = String::with_capacity(data.len() + UPLOT_JS.len() + 64 * 1024);
+    let title = esc(&page.title);
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>{title} — flight report</title>\n<style>\n{UPLOT_CSS}\n{REPORT_CSS}\n</style>\n</head>\n<body>\n\
+         <header><h1>Flight report: {title}</h1>\n<table id=\"summary\">\n"
+    );
+    for (k, v) in &page.header {
+        let _ = writeln!(h, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(v));
+    }
+    h.push_str("</table>\n");
+    h.push_str(
+        "<p class=\"help\">Drag across a plot to zoom the time axis of every plot; \
+         double-click to zoom out. Click a legend entry to hide or show its line. \
+         Coloured bands are flight modes.</p>\n</header>\n",
+    );
+    h.push_str("<section id=\"notes\">\n");
+    for n in &page.notes {
+        let _ = writeln!(h, "<p class=\"note\">{}</p>", esc(n));
+    }
+    if !page.missing.is_empty() {
+        h.push_str(
+            "<details class=\"missing\"><summary>Plots this log has no data for</summary><ul>\n",
+        );
+        for m in &page.missing {
+            let _ = writeln!(
+                h,
+                "<li>{}: the log has no data in {}</li>",
+                esc(&m.title),
+                esc(&m.needs)
+            );
+        }
+        h.push_str("</ul></details>\n");
+    }
+    h.push_str("</section>\n<div id=\"modes\"></div>\n<main id=\"plots\"></main>\n");
+    h.push_str("<section id=\"track-section\"></section>\n");
+
+    messages_table(&mut h, &page.messages);
+    h.push_str("<section><h2>Parameters changed from their defaults</h2>\n");
+    if page.params_vs_defaults.is_empty() {
+        h.push_str("<p class=\"note\">None, or the log gives no defaults.</p>\n");
+    } else {
+        h.push_str("<table id=\"params-defaults\" class=\"list\"><thead><tr><th>name</th><th>value</th><th>default</th></tr></thead><tbody>\n");
+        for [n, v, d] in &page.params_vs_defaults {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
+                esc(n),
+                esc(v),
+                esc(d)
+            );
+        }
+        h.push_str("</tbody></table>\n");
+    }
+    h.push_str("</section>\n<section><h2>Parameters changed during the flight</h2>\n");
+    if page.params_changed.is_empty() {
+        h.push_str("<p class=\"note\">None.</p>\n");
+    } else {
+        h.push_str("<table id=\"params-changed\" class=\"list\"><thead><tr><th>time</th><th>name</th><th>value</th></tr></thead><tbody>\n");
+        for (t, n, v) in &page.params_changed {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
+                clock(*t),
+                esc(n),
+                esc(v)
+            );
+        }
+        h.push_str("</tbody></table>\n");
+    }
+    h.push_str("</section>\n");
+    key_values(&mut h, "Information", "info", &page.info);
+    key_values(&mut h, "Multi-information", "multi-info", &page.multi);
+    let _ = writeln!(
+        h,
+        "<footer>Written by <code>ulog report</code>. Plots drawn with uPlot 1.6.32 \
+         (MIT licence, below).<details><summary>uPlot's licence</summary><pre>{}</pre></details></footer>",
+        esc(UPLOT_LICENSE)
+    );
+    let _ = write!(
+        h,
+        "<script id=\"report-data\" type=\"application/json\">{data}</script>\n\
+         <script>\n{UPLOT_JS}\n</script>\n<script>\n{REPORT_JS}\n</script>\n</body>\n</html>\n"
+    );
+    Ok(h)
+}
+
+fn messages_table(h: &mut String, messages: &[(f64, &'static str, String)]) {
+    h.push_str(
+        "<section><h2>Logged messages and events</h2>\n\
+         <label>Show level <select id=\"level-filter\">\
+         <option value=\"7\">DEBUG and above (all)</option>\
+         <option value=\"6\">INFO and above</option>\
+         <option value=\"5\">NOTICE and above</option>\
+         <option value=\"4\">WARNING and above</option>\
+         <option value=\"3\">ERROR and above</option>\
+         </select></label>\n",
+    );
+    if messages.is_empty() {
+        h.push_str("<p class=\"note\">The log has no logged messages or events.</p>\n");
+    }
+    h.push_str("<table id=\"messages\" class=\"list\"><thead><tr><th>time</th><th>level</th><th>message</th></tr></thead><tbody>\n");
+    for (t, level, text) in messages {
+        let _ = writeln!(
+            h,
+            "<tr class=\"lvl-{}\" data-level=\"{}\"><td>{}</td><td>{}</td><td>{}</td></tr>",
+            level.to_ascii_lowercase(),
+            severity(level),
+            clock(*t),
+            level,
+            esc(text)
+        );
+    }
+    h.push_str("</tbody></table></section>\n");
+}
+
+/// The severity number of a level name (0 EMERGENCY … 7 DEBUG; unknown as 7).
+pub fn severity(level: &str) -> u8 {
+    [
+        "EMERGENCY",
+        "ALERT",
+        "CRITICAL",
+        "ERROR",
+        "WARNING",
+        "NOTICE",
+        "INFO",
+        "DEBUG",
+    ]
+    .iter()
+    .position(|l| *l == level)
+    .map_or(7, |i| i as u8)
+}
+
+fn key_values(h: &mut String, title: &str, id: &str, rows: &[Row]) {
+    let _ = writeln!(h, "<section><h2>{title}</h2>");
+    if rows.is_empty() {
+        h.push_str("<p class=\"note\">None.</p></section>\n");
+        return;
+    }
+    let _ = writeln!(
+        h,
+        "<table id=\"{id}\" class=\"list\"><thead><tr><th>key</th><th>value</th></tr></thead><tbody>"
+    );
+    for (k, v) in rows {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td><pre>{}</pre></td></tr>",
+            esc(k),
+            esc(v)
+        );
+    }
+    h.push_str("</tbody></table></section>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_is_escaped_and_times_are_clock_times() {
+        assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
+        assert_eq!(clock(3723.0456), "1:02:03.046");
+        assert_eq!(severity("ERROR"), 3);
+        assert_eq!(severity("UNKNOWN"), 7);
+    }
+}

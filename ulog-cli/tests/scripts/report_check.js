@@ -1,0 +1,145 @@
+// Opens a `ulog report` page in headless Chromium (playwright-core with the system's
+// browser) and prints, as one JSON object, what the Rust test (tests/report.rs) checks:
+// console errors and requests, each plot's drawn line pixels, the ranges after a zoom,
+// the legend's values where the mouse hovers, the messages table's rows.
+//
+//   node report_check.js REPORT.html HOVER_PLOT [SCREENSHOT.png]
+"use strict";
+const { chromium } = require("playwright-core");
+const path = require("path");
+const os = require("os");
+const fs = require("fs");
+
+async function main() {
+  const [report, hoverPlot, screenshot] = process.argv.slice(2);
+  const profile = fs.mkdtempSync(path.join(os.tmpdir(), "ulog-report-chromium-"));
+  // An empty profile of its own (playwright passes it as --user-data-dir).
+  const browser = await chromium.launchPersistentContext(profile, {
+    executablePath: process.env.ULOG_CHROMIUM || "/usr/bin/chromium",
+    headless: true,
+    viewport: { width: 1280, height: 1000 },
+    args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+      "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+  });
+  const out = { errors: [], requests: [] };
+  try {
+    const page = await browser.newPage();
+    page.on("console", (m) => { if (m.type() === "error") out.errors.push(m.text()); });
+    page.on("pageerror", (e) => out.errors.push(String(e)));
+    page.on("requestfailed", (r) => out.errors.push("failed request " + r.url()));
+    page.on("request", (r) => out.requests.push(r.url()));
+    const url = "file://" + path.resolve(report);
+    await page.goto(url, { waitUntil: "load" });
+    await page.waitForFunction(() => window.ulogReport && window.ulogReport.ready, null,
+      { timeout: 20000 });
+    out.requests = out.requests.filter((u) => u !== url);
+    out.origin_us = await page.evaluate(() =>
+      JSON.parse(document.getElementById("report-data").textContent).origin_us);
+
+    // Per plot: coloured pixels (axes, grid and text are grey; no line colour is),
+    // at least a quarter opaque, drawn without the flight-mode bands and marks, so
+    // that what is counted is lines (overlapping lines mix their colours, which
+    // stay coloured).
+    out.plots = await page.evaluate(async () => {
+      const api = window.ulogReport;
+      const frame = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+      api.plain = true;
+      Object.values(api.plots).forEach((u) => u.redraw(false, false));
+      await frame();
+      const res = {};
+      for (const [id, u] of Object.entries(api.plots)) {
+        const c = u.ctx.canvas;
+        const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
+        let line = 0;
+        for (let i = 0; i < px.length; i += 4) {
+          if (px[i + 3] < 64) continue;
+          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
+          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
+          if (hi - lo >= 24) line += 1;
+        }
+        res[id] = { linePixels: line, series: u.series.length - 1 };
+      }
+      api.plain = false;
+      Object.values(api.plots).forEach((u) => u.redraw(false, false));
+      await frame();
+      return res;
+    });
+    out.track = await page.evaluate(() => {
+      const c = document.getElementById("track");
+      if (!c) return null;
+      const px = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < px.length; i += 4) {
+        if (px[i] === 0x1f && px[i + 1] === 0x77 && px[i + 2] === 0xb4) n += 1;
+      }
+      return n;
+    });
+
+    // Zoom: drag across the middle half of the first plot.
+    const ids = Object.keys(out.plots);
+    const first = ids[0];
+    const over = async (id) => {
+      const el = await page.$("#plot-" + id + " .u-over");
+      await el.scrollIntoViewIfNeeded();
+      return el.boundingBox();
+    };
+    const ranges = () => page.evaluate(() => {
+      const r = {};
+      for (const [id, u] of Object.entries(window.ulogReport.plots)) {
+        r[id] = [u.scales.x.min, u.scales.x.max];
+      }
+      return r;
+    });
+    out.before = await ranges();
+    const b = await over(first);
+    const y = b.y + b.height / 2;
+    await page.mouse.move(b.x + b.width * 0.25, y);
+    await page.mouse.down();
+    await page.mouse.move(b.x + b.width * 0.5, y, { steps: 5 });
+    await page.mouse.move(b.x + b.width * 0.75, y, { steps: 5 });
+    await page.mouse.up();
+    out.zoomed = first;
+    out.after = await ranges();
+    // Double-click: every plot back to the whole log.
+    await page.mouse.dblclick(b.x + b.width * 0.5, y);
+    out.reset = await ranges();
+
+    // Hover the middle of one plot; read its legend.
+    if (hoverPlot && out.plots[hoverPlot]) {
+      const h = await over(hoverPlot);
+      await page.mouse.move(h.x + h.width * 0.5, h.y + h.height / 2, { steps: 3 });
+      out.hover = await page.evaluate((id) => {
+        const rows = document.querySelectorAll("#plot-" + id + " .u-legend tr.u-series");
+        return Array.from(rows).map((tr) => [
+          tr.querySelector(".u-label").textContent,
+          tr.querySelector(".u-value").textContent,
+        ]);
+      }, hoverPlot);
+    }
+
+    out.messages = await page.evaluate(() =>
+      document.querySelectorAll("#messages tbody tr").length);
+    // The level filter: ERROR and above.
+    await page.selectOption("#level-filter", "3");
+    out.messagesShownAtError = await page.evaluate(() =>
+      Array.from(document.querySelectorAll("#messages tbody tr")).filter((tr) => !tr.hidden).length);
+
+    if (screenshot) {
+      await page.selectOption("#level-filter", "7");
+      await page.evaluate(() => window.scrollTo(0, 0));
+      await page.mouse.move(0, 0);
+      await page.setViewportSize({ width: 1280, height: 1500 });
+      await page.waitForTimeout(300);
+      await page.screenshot({ path: screenshot });
+    }
+  } finally {
+    await browser.close();
+    fs.rmSync(profile, { recursive: true, force: true });
+  }
+  process.stdout.write(JSON.stringify(out) + "\n");
+}
+
+main().catch((e) => {
+  process.stderr.write(String(e && e.stack || e) + "\n");
+  process.exit(1);
+});
