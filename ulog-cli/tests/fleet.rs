@@ -568,4 +568,11 @@ fn several_logs_need_a_dataset_folder() {
         stderr.contains("name its folder with -o DATASET"),
         "{stderr}"
     );
+
+    // One log alone is a dataset of one, beside it.
+    let log = common::sample_file("fleet_single");
+    common::ulog_ok([OsStr::new("parquet"), log.as_os_str()]);
+    let dir = log.with_file_name("sample");
+    assert_eq!(read(&dir.join("logs.parquet")).num_rows(), 1);
+    assert!(dir.join("esc_status").is_dir());
 }
