@@ -38,13 +38,14 @@ use crate::progress::Progress;
 /// becomes `_`) and `metadata.json` (information, parameters, logged messages,
 /// dropouts, damage found, topics).
 ///
-/// Several logs are converted in parallel, each by one thread; a single log is read
-/// once, in chunks (never held whole), its row groups encoded in parallel as it goes.
+/// Several logs are converted in parallel, each by one thread; a single log is hashed,
+/// then read once, in chunks (never held whole), its row groups encoded in parallel as
+/// it goes.
 /// A log that cannot be read or converted is reported (one line) and the others go
 /// on; the exit status is then that of the first failure, in the order given.
 #[derive(Debug, clap::Args)]
 #[command(
-    about = "Logs to Parquet files (one per topic instance) for query engines",
+    about = "Logs to one Parquet dataset (a file per topic and log) for SQL",
     long_about
 )]
 pub struct Args {
@@ -138,10 +139,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // many, each log exports the names it has.
     let strict = jobs.len() == 1;
     // Where the logs go: one dataset, or (`--per-log`) each to its folder.
+    let mut made = false;
     let dataset = if args.per_log {
         None
     } else {
         let dir = dataset_dir(args, &jobs)?;
+        made = !dir.exists();
         let dataset =
             Dataset::open(&dir, &options).map_err(|e| failure(&dir.display().to_string(), &e))?;
         Some(dataset)
@@ -177,7 +180,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .into_iter()
         .map(|r| r.map(|r| r.unwrap_or_else(|e| match e {})))
         .collect();
-    if let Some(dataset) = dataset {
+    let failed = results.iter().flatten().any(Result::is_err);
+    if strict && failed && made {
+        // One log that failed leaves nothing written, as with --per-log.
+        if let Some(dataset) = &dataset {
+            let _ = std::fs::remove_dir_all(dataset.dir());
+        }
+    } else if let Some(dataset) = dataset {
         let dir = dataset.dir().to_owned();
         let logs = dataset.len();
         dataset

@@ -569,6 +569,16 @@ fn several_logs_need_a_dataset_folder() {
         "{stderr}"
     );
 
+    // One log that fails leaves no dataset behind.
+    let bad = common::scratch("fleet_bad").join("notalog.ulg");
+    std::fs::write(&bad, b"not a log").unwrap();
+    let out = common::ulog([OsStr::new("parquet"), bad.as_os_str()]);
+    assert_eq!(out.status.code(), Some(4));
+    assert!(
+        !bad.with_file_name("notalog").exists(),
+        "nothing left written"
+    );
+
     // One log alone is a dataset of one, beside it.
     let log = common::sample_file("fleet_single");
     common::ulog_ok([OsStr::new("parquet"), log.as_os_str()]);

@@ -132,6 +132,11 @@ fn check_and_parquet(test: &str, bytes: &[u8], parquet_args: &[&[&str]]) {
         args.extend_from_slice(extra);
         run_limited(&log, &args, &[0]);
     }
+    // The default layout, a dataset, with the first options.
+    let out = dir.join("dataset");
+    let mut args = vec!["parquet", log_arg, "-o", out.to_str().unwrap()];
+    args.extend_from_slice(parquet_args.first().copied().unwrap_or_default());
+    run_limited(&log, &args, &[0]);
     // std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -147,7 +147,8 @@ pub mod read {
     };
     pub use crate::log::offsets::{MessageOffsets, OffsetsIter};
     pub use crate::log::params::{
-        diff_from_defaults, diff_params, same_param_value, DefaultKind, ParamDefaults, ParamDiff,
+        diff_from_defaults, diff_params, same_param_value, vehicle_type, DefaultKind,
+        ParamDefaults, ParamDiff,
     };
     pub use crate::log::utc::{UtcClock, UtcSource, UtcTime};
     pub use crate::pass::scan::{ScanFlow, ScanOrder};

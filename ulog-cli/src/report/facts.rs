@@ -19,10 +19,12 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
     let mut vehicle: Vec<String> = Vec::new();
     vehicle.extend(info("sys_name"));
     if let Some(t) = param(log, "MAV_TYPE") {
-        vehicle.push(match vehicle_type(&t) {
-            Some(kind) => format!("{kind} (MAV_TYPE {t})"),
-            None => format!("MAV_TYPE {t}"),
-        });
+        vehicle.push(
+            match t.parse().ok().and_then(ulog_core::read::vehicle_type) {
+                Some(kind) => format!("{kind} (MAV_TYPE {t})"),
+                None => format!("MAV_TYPE {t}"),
+            },
+        );
     }
     if let Some(a) = param(log, "SYS_AUTOSTART") {
         vehicle.push(format!("airframe {a} (SYS_AUTOSTART)"));
@@ -150,25 +152,6 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
         },
     );
     rows
-}
-
-/// The kind of vehicle of a MAVLink `MAV_TYPE` value (as PX4 sets it).
-fn vehicle_type(mav_type: &str) -> Option<&'static str> {
-    Some(match mav_type {
-        "1" => "fixed wing",
-        "2" => "quadrotor",
-        "3" => "coaxial helicopter",
-        "4" => "helicopter",
-        "7" => "airship",
-        "10" => "ground rover",
-        "11" => "surface boat",
-        "12" => "submarine",
-        "13" => "hexarotor",
-        "14" => "octorotor",
-        "15" => "tricopter",
-        "19" | "20" | "21" | "22" => "VTOL",
-        _ => return None,
-    })
 }
 
 /// `h:mm:ss` of seconds.

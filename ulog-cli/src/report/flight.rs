@@ -213,7 +213,12 @@ pub fn timeline(log: &ULog<'_>, start_us: u64, end_us: u64) -> Timeline {
     let mut armed_s = 0.0;
     if let Ok(rows) = log.read::<VehicleStatus>(0) {
         let mut armed_at: Option<f64> = None;
-        for s in rows.iter().filter_map(Result::ok) {
+        // Rows PX4 never stamped left out, as in the plots.
+        for s in rows
+            .iter()
+            .filter_map(Result::ok)
+            .filter(|s| s.timestamp > 0 || start_us == 0)
+        {
             let t = sec(s.timestamp);
             match modes.last_mut() {
                 Some(m) if m.mode == s.nav_state => m.t1 = t,

@@ -146,10 +146,6 @@ fn read_group(
         let Some(t) = clock.push(payload) else {
             continue;
         };
-        // A message PX4 never stamped (a topic logged before its first publication).
-        if t == 0 && start_us > 0 {
-            continue;
-        }
         for (v, r) in row.iter_mut().zip(&readers) {
             *v = r.read(payload);
         }

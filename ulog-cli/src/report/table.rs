@@ -118,6 +118,11 @@ impl Builder {
     /// Adds the row of time `timestamp` (microseconds) with one value per line.
     pub fn push(&mut self, timestamp: u64, values: &[f32]) {
         debug_assert_eq!(values.len(), self.lines);
+        // A message PX4 never stamped (a topic logged before its first publication):
+        // at time 0 of a log that starts later, it would stretch every plot back.
+        if timestamp == 0 && self.start_us > 0 {
+            return;
+        }
         let x = (timestamp as f64 - self.start_us as f64) / 1e6;
         let row = self.row;
         self.row += 1;

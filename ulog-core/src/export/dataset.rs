@@ -16,6 +16,7 @@ use arrow_array::{Array, ArrayRef, RecordBatch, StringArray};
 use arrow_schema::{DataType, Field, Schema, SchemaRef, TimeUnit};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::arrow::ArrowWriter;
+use parquet::file::metadata::KeyValue as ParquetKeyValue;
 use sha2::{Digest, Sha256};
 
 use super::error::{ExportError, ExportErrorKind};
@@ -71,7 +72,10 @@ const LOG_ID_DIGITS: usize = 16;
 /// new logs'; a topic's file is written once, when its log is added. The files are the
 /// same byte for byte whatever the order the logs are added in, or the threads.
 ///
-/// Logs are added with [`Dataset::add`], from any number of threads at once.
+/// Logs are added with [`Dataset::add`], from any number of threads at once. A log
+/// already there is skipped whatever the options are now ([`Options::topics`],
+/// [`Options::utc`]); the tables record [`Options::flatten`], and a dataset refuses to
+/// open with the other.
 ///
 /// ```
 /// use ulog_core::export::{Added, Dataset, Options};
@@ -141,7 +145,7 @@ impl Dataset {
         for (i, (name, schema)) in tables().into_iter().enumerate() {
             let path = dir.join(name);
             if path.exists() {
-                state.tables[i] = read_table(&path, &schema)?;
+                state.tables[i] = read_table(&path, &schema, options.flatten)?;
             }
         }
         state.ids = state.tables[0].keys().cloned().collect();
@@ -228,11 +232,30 @@ impl Dataset {
     /// Writes the four tables: the rows they had and those of the logs added.
     pub fn finish(self) -> Result<()> {
         let state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
+        let mut result = Ok(());
         for ((name, schema), rows) in tables().into_iter().zip(&state.tables) {
             let path = self.dir.join(name);
-            write_table(&path, &schema, rows, &self.options)?;
+            match write_table(&path, &schema, rows, &self.options) {
+                Ok(partial) => written.push((partial, path)),
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+            }
         }
-        Ok(())
+        // The table of logs last: a log it lists is one whose rows every table has
+        // (a log it lacks is converted again next time).
+        written.rotate_left(1);
+        for (partial, path) in &written {
+            if result.is_ok() {
+                result = std::fs::rename(partial, path).map_err(|e| ExportError::io(e, path));
+            }
+            if result.is_err() {
+                let _ = std::fs::remove_file(partial);
+            }
+        }
+        result
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, State> {
@@ -336,33 +359,9 @@ fn tables() -> [(&'static str, SchemaRef); 4] {
     ]
 }
 
-/// PX4's vehicle types (MAVLink's `MAV_TYPE`, parameter `MAV_TYPE`) by number.
+/// The kind of vehicle of `MAV_TYPE` `n`, or `MAV_TYPE n`.
 fn vehicle_type(n: i128) -> String {
-    let name = match n {
-        0 => "generic",
-        1 => "fixed wing",
-        2 => "quadrotor",
-        3 => "coaxial",
-        4 => "helicopter",
-        7 => "airship",
-        8 => "free balloon",
-        10 => "ground rover",
-        11 => "surface boat",
-        12 => "submarine",
-        13 => "hexarotor",
-        14 => "octorotor",
-        15 => "tricopter",
-        19 => "VTOL tailsitter (duo)",
-        20 => "VTOL tailsitter (quad)",
-        21 => "VTOL tiltrotor",
-        22 => "VTOL fixed rotor",
-        23 => "VTOL tailsitter",
-        24 => "VTOL tiltwing",
-        29 => "dodecarotor",
-        35 => "decarotor",
-        _ => return format!("MAV_TYPE {n}"),
-    };
-    name.to_owned()
+    crate::log::params::vehicle_type(n).map_or_else(|| format!("MAV_TYPE {n}"), str::to_owned)
 }
 
 /// The text of an information value, if it is text.
@@ -600,10 +599,41 @@ impl Messages {
 }
 
 /// A table of the dataset read back: each log's rows by its id.
-fn read_table(path: &Path, schema: &SchemaRef) -> Result<BTreeMap<String, Vec<RecordBatch>>> {
-    let bad = |what: String| ExportError::new(ExportErrorKind::Dataset { what }).in_file(path);
+fn read_table(
+    path: &Path,
+    schema: &SchemaRef,
+    flatten: bool,
+) -> Result<BTreeMap<String, Vec<RecordBatch>>> {
+    let bad = |what: String| {
+        ExportError::new(ExportErrorKind::Dataset {
+            what: format!("a table of the dataset cannot be read back: {what}"),
+        })
+        .in_file(path)
+    };
     let file = File::open(path).map_err(|e| ExportError::io(e, path))?;
     let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| bad(e.to_string()))?;
+    let written_flat = builder
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .and_then(|kv: &Vec<ParquetKeyValue>| kv.iter().find(|kv| kv.key == FLATTEN_KEY))
+        .and_then(|kv| kv.value.clone());
+    if let Some(flat) = written_flat {
+        if flat != flatten.to_string() {
+            let (was, now) = if flatten {
+                ("without", "with")
+            } else {
+                ("with", "without")
+            };
+            return Err(ExportError::new(ExportErrorKind::Dataset {
+                what: format!(
+                    "the dataset's topics were written {was} flattened columns, these logs \
+                     would be {now}: convert them with the same options, or into another dataset"
+                ),
+            })
+            .in_file(path));
+        }
+    }
     if builder.schema().fields() != schema.fields() {
         return Err(bad(format!(
             "its columns are not those this version writes ({})",
@@ -643,13 +673,14 @@ fn read_table(path: &Path, schema: &SchemaRef) -> Result<BTreeMap<String, Vec<Re
     Ok(rows)
 }
 
-/// Writes a table: every log's rows, by log_id (to a partial file, renamed when done).
+/// Writes a table, every log's rows by log_id, to a partial file beside `path`, which
+/// it returns.
 fn write_table(
     path: &Path,
     schema: &SchemaRef,
     rows: &BTreeMap<String, Vec<RecordBatch>>,
     options: &Options,
-) -> Result<()> {
+) -> Result<PathBuf> {
     // One batch, however the rows came (read back or new): the writer's pages then do
     // not depend on it, and the file is the same byte for byte.
     let all = arrow_select::concat::concat_batches(schema, rows.values().flatten())
@@ -657,18 +688,24 @@ fn write_table(
     let partial = path.with_extension("parquet.partial");
     let result = (|| {
         let file = File::create(&partial).map_err(|e| ExportError::io(e, path))?;
+        let flatten = ParquetKeyValue::new(FLATTEN_KEY.to_owned(), options.flatten.to_string());
         let props = parquet::file::properties::WriterProperties::builder()
             .set_compression(compression_of(options.compression))
+            .set_key_value_metadata(Some(vec![flatten]))
             .build();
         let mut writer =
             ArrowWriter::try_new(std::io::BufWriter::new(file), schema.clone(), Some(props))
                 .map_err(|e| write_error(path, e))?;
         writer.write(&all).map_err(|e| write_error(path, e))?;
         writer.close().map_err(|e| write_error(path, e))?;
-        std::fs::rename(&partial, path).map_err(|e| ExportError::io(e, path))
+        Ok(partial.clone())
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&partial);
     }
     result
 }
+
+/// The key of the tables' metadata that says whether the topics' files have
+/// flattened columns ([`Options::flatten`]): a dataset's files all have the same.
+const FLATTEN_KEY: &str = "ulog.flatten";

@@ -36,8 +36,9 @@ pub enum ExportErrorKind {
     /// Arrow or Parquet refused the data (its error is the
     /// [`source`](std::error::Error::source)).
     Encoding,
-    /// A table of a [`Dataset`](super::Dataset) cannot be read back (the error's
-    /// [`path`](ExportError::path) names it).
+    /// A [`Dataset`](super::Dataset) cannot hold this: one of its tables cannot be read
+    /// back (the error's [`path`](ExportError::path) names it), was written with other
+    /// options, or two topic names would share a folder.
     Dataset {
         /// What is wrong with it.
         what: String,
@@ -164,7 +165,7 @@ impl fmt::Display for ExportError {
             (ExportErrorKind::Read, None) => write!(f, "the log could not be read"),
             (ExportErrorKind::Lookup(e), _) => write!(f, "{e}"),
             (ExportErrorKind::Dataset { what }, _) => {
-                write!(f, "a table of the dataset cannot be read back: {what}")
+                write!(f, "{what}")
             }
             (ExportErrorKind::NoValues { topic }, _) => {
                 write!(f, "topic `{topic}` has no field with values")

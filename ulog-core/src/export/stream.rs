@@ -159,7 +159,7 @@ pub(super) fn export(
 
     let mut slots: Vec<Slot> = Vec::new();
     // A dataset's files, by topic name (its instances share one).
-    let mut files: HashMap<String, Arc<TopicFile>> = HashMap::new();
+    let mut files: HashMap<PathBuf, (String, Arc<TopicFile>)> = HashMap::new();
     // The GPS times, for the dataset's UTC start.
     let mut gps = UtcSamples::default();
     let mut gps_times: Vec<Option<GpsTime>> = Vec::new();
@@ -370,11 +370,17 @@ pub(super) fn export(
         if let Some(e) = failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
             return Err(e);
         }
+        // Every wide table's rows first: in a dataset, a topic's instances share the
+        // file, whose footer is written once all of them are in.
         for slot in opened.iter_mut() {
             write_wide(slot, options)?;
-            close(&slot.file)?;
             // Made only by topics that put rows aside.
             let _ = std::fs::remove_file(&slot.spill.path);
+        }
+        for (i, slot) in opened.iter().enumerate() {
+            if !opened[..i].iter().any(|o| Arc::ptr_eq(&o.file, &slot.file)) {
+                close(&slot.file)?;
+            }
         }
         // Everything but the data, as a log of its own.
         let mut bytes = Vec::with_capacity(HEADER_SIZE + kept.bytes.len());
@@ -442,12 +448,8 @@ pub(super) fn export(
             let _ = std::fs::remove_file(&slot.file.partial);
             let _ = std::fs::remove_file(&slot.spill.path);
         }
-        for file in files.values() {
-            if let Some(folder) = file.partial.parent() {
-                // Only when no other log's file is in it.
-                let _ = std::fs::remove_dir(folder);
-            }
-        }
+        // A dataset's topic folders stay, empty or not: another log being added at
+        // the same time may be about to write into one.
         for folder in &made {
             // Only when nothing else came into it meanwhile.
             let _ = std::fs::remove_dir(folder);
@@ -463,7 +465,7 @@ fn open(
     dir: &Path,
     options: &Options,
     dataset: bool,
-    files: &mut HashMap<String, Arc<TopicFile>>,
+    files: &mut HashMap<PathBuf, (String, Arc<TopicFile>)>,
     skipped: &mut Vec<Skipped>,
 ) -> Slot {
     if let Some(names) = &options.topics {
@@ -527,10 +529,25 @@ fn open(
             });
             return Slot::Skipped;
         }
-        files
-            .entry(sub.name().to_owned())
-            .or_insert_with(new_file)
-            .clone()
+        let (name, file) = files
+            .entry(folder.clone())
+            .or_insert_with(|| (sub.name().to_owned(), new_file()));
+        if name != sub.name() {
+            // `a/b` and `a_b` would share a folder (and a file).
+            skipped.push(Skipped {
+                topic: sub.name().to_owned(),
+                multi_id: sub.multi_id(),
+                error: ExportError::new(ExportErrorKind::Dataset {
+                    what: format!(
+                        "topics `{name}` and `{}` would share the folder {}",
+                        sub.name(),
+                        folder.display()
+                    ),
+                }),
+            });
+            return Slot::Skipped;
+        }
+        file.clone()
     } else {
         new_file()
     };

@@ -1070,3 +1070,81 @@ fn read_back_rows(path: &std::path::Path) -> i64 {
         .file_metadata()
         .num_rows()
 }
+
+#[test]
+fn a_wide_topic_in_two_instances_keeps_both_in_its_dataset_file() {
+    // 1,101 leaf columns flattened: a wide table, written after the pass.
+    let mut b = LogBuilder::new(1, 0);
+    b.format("w:uint64_t timestamp;uint8_t[1100] x;");
+    b.subscribe(0, 0, "w");
+    b.subscribe(1, 1, "w");
+    for i in 0..6u64 {
+        let mut p = (1000 + i).to_le_bytes().to_vec();
+        p.extend(std::iter::repeat((i % 2) as u8).take(1100));
+        b.data((i % 2) as u16, &p);
+    }
+    let dir = scratch("dataset_wide");
+    let log = dir.with_extension("ulg");
+    std::fs::write(&log, b.into_bytes()).expect("write");
+    let options = Options {
+        flatten: true,
+        ..Options::default()
+    };
+    let dataset = Dataset::open(&dir, &options).expect("open");
+    let Added::Written { log_id, export } = dataset.add(&log, None, |_| {}).expect("add") else {
+        panic!("a new dataset has no log")
+    };
+    assert_eq!(export.files.len(), 1);
+    assert_eq!(export.files[0].rows, 6);
+    let (_, w) = read_back(&dir.join("w").join(format!("{log_id}.parquet")));
+    assert_eq!(w.num_rows(), 6, "both instances' rows");
+    let multi = w.column(1).as_primitive::<UInt8Type>();
+    let first = w
+        .column_by_name("x[0]")
+        .unwrap()
+        .as_primitive::<UInt8Type>();
+    for i in 0..6 {
+        assert_eq!(multi.value(i), first.value(i), "row {i} keeps its instance");
+    }
+    // The same options again are fine; the other flattening is refused, naming why.
+    dataset.finish().expect("finish");
+    Dataset::open(&dir, &options).expect("same options");
+    let e = Dataset::open(&dir, &Options::default()).expect_err("other flattening");
+    assert!(e.to_string().contains("flattened"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&log);
+}
+
+#[test]
+fn two_topic_names_that_would_share_a_folder_are_not_mixed() {
+    let mut b = LogBuilder::new(1, 0);
+    b.format("a/b:uint64_t timestamp;float x;");
+    b.format("a_b:uint64_t timestamp;float x;");
+    b.subscribe(0, 0, "a/b");
+    b.subscribe(0, 1, "a_b");
+    for id in [0u16, 1, 0, 1] {
+        let mut p = 1000u64.to_le_bytes().to_vec();
+        p.extend_from_slice(&f32::from(id).to_le_bytes());
+        b.data(id, &p);
+    }
+    let dir = scratch("dataset_clash");
+    let log = dir.with_extension("ulg");
+    std::fs::write(&log, b.into_bytes()).expect("write");
+    let dataset = Dataset::open(&dir, &Options::default()).expect("open");
+    let Added::Written { export, .. } = dataset.add(&log, None, |_| {}).expect("add") else {
+        panic!("a new dataset has no log")
+    };
+    assert_eq!(export.files.len(), 1);
+    assert_eq!(
+        (export.files[0].topic.as_str(), export.files[0].rows),
+        ("a/b", 2)
+    );
+    assert_eq!(export.skipped.len(), 1);
+    assert_eq!(export.skipped[0].topic, "a_b");
+    assert!(export.skipped[0]
+        .error
+        .to_string()
+        .contains("share the folder"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_file(&log);
+}

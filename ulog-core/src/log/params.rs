@@ -284,6 +284,40 @@ impl<'a> ULog<'a> {
     }
 }
 
+/// The kind of vehicle a MAVLink `MAV_TYPE` value (PX4's parameter `MAV_TYPE`) names,
+/// for the types PX4 flies; `None` for others.
+///
+/// ```
+/// assert_eq!(ulog_core::read::vehicle_type(2), Some("quadrotor"));
+/// assert_eq!(ulog_core::read::vehicle_type(99), None);
+/// ```
+pub fn vehicle_type(mav_type: i128) -> Option<&'static str> {
+    Some(match mav_type {
+        0 => "generic",
+        1 => "fixed wing",
+        2 => "quadrotor",
+        3 => "coaxial helicopter",
+        4 => "helicopter",
+        7 => "airship",
+        8 => "free balloon",
+        10 => "ground rover",
+        11 => "surface boat",
+        12 => "submarine",
+        13 => "hexarotor",
+        14 => "octorotor",
+        15 => "tricopter",
+        19 => "VTOL tailsitter (duo)",
+        20 => "VTOL tailsitter (quad)",
+        21 => "VTOL tiltrotor",
+        22 => "VTOL fixed rotor",
+        23 => "VTOL tailsitter",
+        24 => "VTOL tiltwing",
+        29 => "dodecarotor",
+        35 => "decarotor",
+        _ => return None,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -377,10 +377,12 @@ impl<W: Write> McapWriter<W> {
         if end == 0 {
             return Ok(());
         }
-        let mut fresh = self
-            .spare_records
-            .pop()
-            .unwrap_or_else(|| Vec::with_capacity(self.chunk_bytes as usize + 64 * 1024));
+        let mut fresh = self.spare_records.pop().unwrap_or_else(|| {
+            // Room for a chunk and its last record, but not more than 64 MiB ahead:
+            // a chunk size may be huge ("never split").
+            let room = usize::try_from(self.chunk_bytes).unwrap_or(usize::MAX);
+            Vec::with_capacity(room.min(64 << 20).saturating_add(64 * 1024))
+        });
         fresh.extend_from_slice(&self.chunk[end..]);
         self.chunk.truncate(end);
         let records = std::mem::replace(&mut self.chunk, fresh);
