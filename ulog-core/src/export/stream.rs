@@ -370,16 +370,18 @@ pub(super) fn export(
         if let Some(e) = failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
             return Err(e);
         }
-        // Every wide table's rows first: in a dataset, a topic's instances share the
-        // file, whose footer is written once all of them are in.
-        for slot in opened.iter_mut() {
-            write_wide(slot, options)?;
+        // A file's footer once the last of its tables is in (in a dataset, a topic's
+        // instances share the file), and right then: a wide table's writer holds
+        // hundreds of MB of column metadata until its footer.
+        for i in 0..opened.len() {
+            write_wide(opened[i], options)?;
             // Made only by topics that put rows aside.
-            let _ = std::fs::remove_file(&slot.spill.path);
-        }
-        for (i, slot) in opened.iter().enumerate() {
-            if !opened[..i].iter().any(|o| Arc::ptr_eq(&o.file, &slot.file)) {
-                close(&slot.file)?;
+            let _ = std::fs::remove_file(&opened[i].spill.path);
+            if !opened[i + 1..]
+                .iter()
+                .any(|o| Arc::ptr_eq(&o.file, &opened[i].file))
+            {
+                close(&opened[i].file)?;
             }
         }
         // Everything but the data, as a log of its own.
