@@ -10,6 +10,7 @@ use ulog_core::LookupError;
 
 use crate::failure::{Failure, Status};
 use crate::input;
+use crate::markup::escape;
 
 /// Write the GPS track of a log as KML (default), GPX or GeoJSON, as pyulog's
 /// `ulog2kml` draws it: the first of `vehicle_gnss`, `vehicle_gps_position` (then
@@ -126,22 +127,6 @@ pub fn track_failure(name: &str, e: TrackError) -> Failure {
     Failure::new(status, name, e)
 }
 
-/// Text escaped for XML content and attribute values.
-fn xml(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 /// `lon,lat,alt`, each number in its shortest round-trip form.
 fn kml_coordinates(lon: f64, lat: f64, alt: f64) -> String {
     format!("{lon},{lat},{alt}")
@@ -152,7 +137,7 @@ fn kml(track: &Track, stem: &str) -> String {
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
          <kml xmlns=\"http://www.opengis.net/kml/2.2\">\n  <Document>\n",
     );
-    let _ = writeln!(s, "    <name>{}</name>", xml(stem));
+    let _ = writeln!(s, "    <name>{}</name>", escape(stem));
     for seg in &track.segments {
         let coordinates: Vec<String> = seg
             .points
@@ -165,7 +150,7 @@ fn kml(track: &Track, stem: &str) -> String {
              <color>{}</color>\n          <width>3</width>\n        </LineStyle>\n      </Style>\n      \
              <LineString>\n        <altitudeMode>absolute</altitudeMode>\n        \
              <coordinates>{}</coordinates>\n      </LineString>\n    </Placemark>\n",
-            xml(&seg.name),
+            escape(&seg.name),
             seg.color(),
             coordinates.join(" ")
         );
@@ -206,8 +191,8 @@ fn gpx(track: &Track, stem: &str) -> String {
     let _ = writeln!(
         s,
         "  <trk>\n    <name>{}</name>\n    <src>{}</src>",
-        xml(stem),
-        xml(&track.topic)
+        escape(stem),
+        escape(&track.topic)
     );
     for seg in &track.segments {
         s.push_str("    <trkseg>\n");
@@ -305,7 +290,7 @@ mod tests {
 
     #[test]
     fn names_are_escaped_and_stems_lose_the_log_extension() {
-        assert_eq!(xml("a<b>&\"'"), "a&lt;b&gt;&amp;&quot;&apos;");
+        assert_eq!(escape("a<b>&\"'"), "a&lt;b&gt;&amp;&quot;&apos;");
         let stem = |p: &str| crate::input::stem(std::path::Path::new(p));
         assert_eq!(stem("dir/flight.ULG"), "flight");
         assert_eq!(stem("flight.bin"), "flight.bin");

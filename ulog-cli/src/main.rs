@@ -17,6 +17,7 @@ mod gps_dump;
 mod info;
 mod input;
 mod kml;
+mod markup;
 mod mcap;
 mod messages;
 mod numfmt;

@@ -11,6 +11,7 @@ use serde::Serialize;
 use super::facts::Row;
 use super::flight::{Mark, ModeBand};
 use super::plots::{Missing, Plot};
+use crate::markup::escape;
 
 const UPLOT_JS: &str = include_str!("../../assets/report/uPlot.iife.min.js");
 const UPLOT_CSS: &str = include_str!("../../assets/report/uPlot.min.css");
@@ -59,21 +60,6 @@ pub struct Page {
     pub drawn: Drawn,
 }
 
-/// `s` with `&`, `<`, `>` and `"` escaped.
-fn esc(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 /// `h:mm:ss.mmm` of seconds since the log's start.
 fn clock(s: f64) -> String {
     let ms = (s.max(0.0) * 1000.0).round() as u64;
@@ -93,7 +79,7 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
     // occurs in JSON strings, where `\u003c` means the same.
     let data = serde_json::to_string(&page.drawn)?.replace('<', "\\u003c");
     let mut h = String::with_capacity(data.len() + UPLOT_JS.len() + 64 * 1024);
-    let title = esc(&page.title);
+    let title = escape(&page.title);
     let _ = write!(
         h,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
@@ -102,7 +88,7 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
          <header><h1>Flight report: {title}</h1>\n<table id=\"summary\">\n"
     );
     for (k, v) in &page.header {
-        let _ = writeln!(h, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(v));
+        let _ = writeln!(h, "<tr><th>{}</th><td>{}</td></tr>", escape(k), escape(v));
     }
     h.push_str("</table>\n");
     h.push_str(
@@ -112,7 +98,7 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
     );
     h.push_str("<section id=\"notes\">\n");
     for n in &page.notes {
-        let _ = writeln!(h, "<p class=\"note\">{}</p>", esc(n));
+        let _ = writeln!(h, "<p class=\"note\">{}</p>", escape(n));
     }
     if !page.missing.is_empty() {
         h.push_str(
@@ -122,8 +108,8 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
             let _ = writeln!(
                 h,
                 "<li>{}: the log has no data in {}</li>",
-                esc(&m.title),
-                esc(&m.needs)
+                escape(&m.title),
+                escape(&m.needs)
             );
         }
         h.push_str("</ul></details>\n");
@@ -141,9 +127,9 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
             let _ = writeln!(
                 h,
                 "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
-                esc(n),
-                esc(v),
-                esc(d)
+                escape(n),
+                escape(v),
+                escape(d)
             );
         }
         h.push_str("</tbody></table>\n");
@@ -158,8 +144,8 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
                 h,
                 "<tr><td>{}</td><td>{}</td><td>{}</td></tr>",
                 clock(*t),
-                esc(n),
-                esc(v)
+                escape(n),
+                escape(v)
             );
         }
         h.push_str("</tbody></table>\n");
@@ -171,7 +157,7 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
         h,
         "<footer>Written by <code>ulog report</code>. Plots drawn with uPlot 1.6.32 \
          (MIT licence, below).<details><summary>uPlot's licence</summary><pre>{}</pre></details></footer>",
-        esc(UPLOT_LICENSE)
+        escape(UPLOT_LICENSE)
     );
     let _ = write!(
         h,
@@ -204,27 +190,17 @@ fn messages_table(h: &mut String, messages: &[(f64, &'static str, String)]) {
             severity(level),
             clock(*t),
             level,
-            esc(text)
+            escape(text)
         );
     }
     h.push_str("</tbody></table></section>\n");
 }
 
-/// The severity number of a level name (0 EMERGENCY … 7 DEBUG; unknown as 7).
+/// The severity number of a level name (0 EMERGENCY … 7 DEBUG; other names as 7).
 pub fn severity(level: &str) -> u8 {
-    [
-        "EMERGENCY",
-        "ALERT",
-        "CRITICAL",
-        "ERROR",
-        "WARNING",
-        "NOTICE",
-        "INFO",
-        "DEBUG",
-    ]
-    .iter()
-    .position(|l| *l == level)
-    .map_or(7, |i| i as u8)
+    (0..8)
+        .find(|&l| ulog_core::events::level_name(l) == level)
+        .unwrap_or(7)
 }
 
 fn key_values(h: &mut String, title: &str, id: &str, rows: &[Row]) {
@@ -241,8 +217,8 @@ fn key_values(h: &mut String, title: &str, id: &str, rows: &[Row]) {
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td><pre>{}</pre></td></tr>",
-            esc(k),
-            esc(v)
+            escape(k),
+            escape(v)
         );
     }
     h.push_str("</tbody></table></section>\n");
@@ -254,7 +230,7 @@ mod tests {
 
     #[test]
     fn text_is_escaped_and_times_are_clock_times() {
-        assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
+        assert_eq!(escape("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
         assert_eq!(clock(3723.0456), "1:02:03.046");
         assert_eq!(severity("ERROR"), 3);
         assert_eq!(severity("UNKNOWN"), 7);
