@@ -46,7 +46,7 @@ pub struct Args {
     /// with JSON Schemas, for tools without CDR; floats that are not finite are null).
     #[arg(long, value_enum, default_value = "ros2", value_name = "ENCODING")]
     encoding: Encoding,
-    /// Compression of the chunks: `zstd` (level 1) or `none` (faster, larger).
+    /// Compression of the chunks: `zstd` (level −1, zstd's fast side) or `none` (faster, larger).
     #[arg(long, value_enum, default_value = "zstd", value_name = "CODEC")]
     compression: Codec,
     /// Write a ROS 2 bag folder per log (the `-o` folder with one log; `<stem>/`
@@ -62,7 +62,7 @@ pub struct Args {
 /// A chunk compression.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum Codec {
-    /// Zstandard, level 1.
+    /// Zstandard, level −1.
     Zstd,
     /// None.
     None,

@@ -96,8 +96,8 @@ pub struct McapOptions {
     pub utc: Option<UtcClock>,
     /// Uncompressed bytes per chunk; at least 1.
     pub chunk_bytes: u64,
-    /// Chunks compressed with zstd (level 1); `false` writes them as they are
-    /// (faster, some 2.4 times larger).
+    /// Chunks compressed with zstd (level −1); `false` writes them as they are
+    /// (faster, about twice as large).
     pub zstd: bool,
 }
 
@@ -207,14 +207,16 @@ pub fn write_mcap<'s, W: Write + Seek>(
         McapEncoding::Ros2 => "ros2",
         McapEncoding::Json => "",
     };
-    // Level 1: on a 295 MB log, 237 MB against 231 MB at zstd's default level 3, and
-    // compression is the larger half of the work.
+    // Level −1 (zstd's fastest but one): compression is the larger half of the work.
+    // On the ≈300 MB logs it takes 9% less CPU than level 1 for files 3% larger
+    // (log61 ×90: 297 MB against 287 MB; events ×200: 243 MB against 237 MB; level 3
+    // gives 231 MB on events): what keeps the export as fast as CSV's (BENCHMARKS.md).
     let writer = McapWriter::create(
         out,
         profile,
         concat!("ulog-core ", env!("CARGO_PKG_VERSION")),
         options.chunk_bytes.max(1),
-        options.zstd.then_some(1),
+        options.zstd.then_some(-1),
     )
     .map_err(McapWriteError::Write)?;
     let mut v = Visitor {

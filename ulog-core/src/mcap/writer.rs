@@ -8,7 +8,7 @@
 //! 2.91 s against 1.12 s for `ulog csv`. Here the pass and CDR take 0.35 s of CPU
 //! and zstd 1.0 s, on two threads beside the pass.
 //!
-//! Compressed chunks: one zstd frame per chunk at the crate's settings (level 1, no
+//! Compressed chunks: one zstd frame per chunk at the crate's settings (level −1, no
 //! content size in the frame), made in one call instead of a stream of small writes.
 //! zstd then reads the chunk in place instead of copying it into its window and
 //! searching two segments of memory: 8% less CPU on log61 ×90, and a few matches come
