@@ -10,7 +10,7 @@
 // otherwise; install it, then touch the build script to rebuild them),
 // `cfg(simplekml)` where it can import simplekml too (pyulog's `ulog2kml`), and
 // `cfg(mcap_readers)` where it can import `mcap`, `mcap_ros2`, `rosbags` and
-// `jsonschema`, `cfg(query_engines)` where it can import `duckdb` and `datafusion`
+// `jsonschema`, `cfg(query_engines)` where it can import `duckdb`, `datafusion` and `xxhash`
 // (which run the README's fleet queries); `cfg(chromium)` where `/usr/bin/chromium`
 // exists and `node` can require `playwright-core` from `target/node` of the workspace
 // (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise). With
@@ -63,7 +63,7 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
             "mcap, mcap_ros2, rosbags, jsonschema",
             "mcap, mcap-ros2-support, rosbags or jsonschema",
         ),
-        ("query_engines", "duckdb, datafusion", "duckdb or datafusion"),
+        ("query_engines", "duckdb, datafusion, xxhash", "duckdb, datafusion or xxhash"),
     ];
     for (cfg, imports, what) in packages {
         let found = std::process::Command::new("python3")

@@ -24,7 +24,7 @@ use crate::progress::Progress;
 /// `messages.parquet` the logged strings and PX4 events; `formats.parquet` the message
 /// formats of each log.
 ///
-/// `log_id` is the first 16 hex digits of the log's SHA-256: a log already in the
+/// `log_id` is the log's XXH3 64-bit hash in 16 hex digits: a log already in the
 /// dataset is skipped, so converting into an existing dataset adds only the new logs.
 /// The files are the same byte for byte from run to run.
 ///

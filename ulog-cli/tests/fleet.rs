@@ -2,8 +2,8 @@
 //!
 //! - The README's five "Fleet analysis" queries, run with DuckDB (and three of them
 //!   with DataFusion) over a dataset of the whole corpus, answer what this library's
-//!   reader says of each log; so do the rows per topic and log, and `log_id` is the
-//!   start of the SHA-256 that Python's `hashlib` computes.
+//!   reader says of each log; so do the rows per topic and log; `log_id` is the XXH3-64
+//!   that Python's `xxhash` computes, and `sha256` the SHA-256 of its `hashlib`.
 //! - `logs.parquet`, read back with the `parquet` crate, says of every log what the
 //!   reader says (versions, counts, duration, UTC start, damage).
 //! - The same logs converted twice give the same bytes; adding a log adds only its
@@ -119,27 +119,42 @@ fn the_readmes_queries_answer_what_the_reader_says() {
     ]))
     .expect("json");
 
-    // log_id → the log, and log_id is the start of the file's SHA-256 (hashlib's).
+    // log_id → the log; log_id is the file's XXH3-64 (Python's xxhash) and the
+    // sha256 column its SHA-256 (hashlib's).
     let mut ids: BTreeMap<String, PathBuf> = BTreeMap::new();
+    let mut sha256: BTreeMap<String, String> = BTreeMap::new();
     for row in answers["logs"].as_array().expect("logs") {
-        ids.insert(
-            row[0].as_str().expect("id").to_owned(),
-            PathBuf::from(row[1].as_str().expect("path")),
-        );
+        let id = row[0].as_str().expect("id").to_owned();
+        ids.insert(id.clone(), PathBuf::from(row[1].as_str().expect("path")));
+        sha256.insert(id, row[2].as_str().expect("sha256").to_owned());
     }
     assert_eq!(ids.len(), logs.len(), "one row per log");
-    let hashes: Json = serde_json::from_slice(&common::python([
-        "-c",
-        "import hashlib, json, sys; print(json.dumps({p: hashlib.sha256(open(p, 'rb').read()).hexdigest() for p in sys.argv[1:]}))",
-    ].into_iter().map(std::ffi::OsString::from).chain(logs.iter().map(|p| p.as_os_str().to_owned()))))
+    let hashes: Json = serde_json::from_slice(&common::python(
+        [
+            "-c",
+            "import hashlib, json, sys, xxhash\n\
+             def both(p):\n\
+             \x20   data = open(p, 'rb').read()\n\
+             \x20   return [xxhash.xxh3_64_hexdigest(data), hashlib.sha256(data).hexdigest()]\n\
+             print(json.dumps({p: both(p) for p in sys.argv[1:]}))",
+        ]
+        .into_iter()
+        .map(std::ffi::OsString::from)
+        .chain(logs.iter().map(|p| p.as_os_str().to_owned())),
+    ))
     .expect("hashes");
     for (id, path) in &ids {
-        let sha = hashes[path.to_str().expect("utf-8 path")]
-            .as_str()
-            .expect("hash");
-        assert!(
-            sha.starts_with(id.as_str()),
-            "{}: {id} vs {sha}",
+        let both = &hashes[path.to_str().expect("utf-8 path")];
+        assert_eq!(
+            Some(id.as_str()),
+            both[0].as_str(),
+            "{}: log_id",
+            path.display()
+        );
+        assert_eq!(
+            Some(sha256[id].as_str()),
+            both[1].as_str(),
+            "{}: sha256",
             path.display()
         );
     }

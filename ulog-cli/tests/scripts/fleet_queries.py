@@ -53,7 +53,7 @@ def main():
             counts.append([topic, log_id, n])
     out["counts"] = counts
     out["logs"] = rows(con.sql(
-        f"SELECT log_id, path FROM '{dataset}/logs.parquet' ORDER BY log_id"))
+        f"SELECT log_id, path, sha256 FROM '{dataset}/logs.parquet' ORDER BY log_id"))
 
     # DataFusion: questions 1, 2 and 5, as the README shows it registering tables.
     ctx = datafusion.SessionContext()

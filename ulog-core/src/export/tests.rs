@@ -983,7 +983,18 @@ fn a_dataset_file_holds_every_instance_of_a_topic_with_its_log_and_instance() {
     };
     assert_eq!(text("sys_name"), "Test");
     assert_eq!(text("vehicle_type"), "hexarotor", "the initial MAV_TYPE");
-    assert!(text("sha256").starts_with(&log_id));
+    // The id and the hash, as other implementations give them (the fleet test checks
+    // both against Python's xxhash and hashlib on the corpus).
+    let bytes = two_instances_log();
+    assert_eq!(
+        log_id,
+        format!("{:016x}", xxhash_rust::xxh3::xxh3_64(&bytes))
+    );
+    let sha: String = <sha2::Sha256 as sha2::Digest>::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    assert_eq!(text("sha256"), sha);
     // The GPS time of the row at 2000 µs, taken during the pass.
     let utc = logs
         .column_by_name("start_utc")
@@ -1058,6 +1069,25 @@ fn a_log_that_fails_leaves_the_dataset_as_it_was() {
     let e = Dataset::open(&dir, &Options::default()).expect_err("other columns");
     assert!(matches!(e.kind(), ExportErrorKind::Dataset { .. }));
     assert_eq!(e.path(), Some(dir.join(LOGS_FILE).as_path()));
+
+    // A table of the right columns whose ids were made by another rule (as the
+    // SHA-256 of earlier versions, which recorded none) is refused: the same log
+    // would come in twice.
+    let formats = std::fs::File::open(dir.join(FORMATS_FILE)).expect("open");
+    let schema = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(formats)
+        .expect("read")
+        .schema()
+        .clone();
+    let file = std::fs::File::create(dir.join(FORMATS_FILE)).expect("create");
+    let writer = parquet::arrow::ArrowWriter::try_new(file, schema, None).expect("writer");
+    writer.close().expect("close");
+    std::fs::remove_file(dir.join(LOGS_FILE)).expect("remove");
+    let e = Dataset::open(&dir, &Options::default()).expect_err("no rule");
+    assert!(
+        e.to_string().contains("log ids were made by another rule"),
+        "{e}"
+    );
+    assert_eq!(e.path(), Some(dir.join(FORMATS_FILE).as_path()));
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_file(&bad);
 }
