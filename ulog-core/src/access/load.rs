@@ -215,10 +215,12 @@ fn again<'s>(source: &Source<'s>) -> Source<'s> {
     match &source.inner {
         Inner::Bytes(bytes, path) => Source {
             inner: Inner::Bytes(bytes, *path),
+            observer: None,
         },
         Inner::File(path) => Source::file(path),
         Inner::Parsed(log) => Source {
             inner: Inner::Parsed(log),
+            observer: None,
         },
         Inner::Reader(_) => unreachable!("a reader is read once"),
     }

@@ -46,7 +46,8 @@ pub const FORMATS_FILE: &str = "formats.parquet";
 /// 2^32 in a fleet of 2^16 logs). Not the SHA-256 (which [`LOGS_FILE`] has too): the
 /// id is needed before the pass, for every row it writes, and the SHA-256 of a 300 MB
 /// log took 0.15 s of one core ahead of it (perf, log_61 ×90); XXH3 reads it at memory
-/// speed, and the SHA-256 is taken on a thread of its own beside the pass.
+/// speed, and the SHA-256 is taken as the pass reads the file, on its read-ahead
+/// thread.
 const LOG_ID_RULE: &str = "xxh3-64";
 
 /// A folder of Parquet files that holds any number of logs, for engines that read a
@@ -205,30 +206,31 @@ impl Dataset {
             utc,
             ..self.options.clone()
         };
-        let source = crate::Source::file(path);
-        let (sent, hashed) = std::sync::mpsc::channel();
-        let stop = std::sync::atomic::AtomicBool::new(false);
-        let exported = std::thread::scope(|scope| {
-            scope.spawn(|| {
-                let _ = sent.send(sha256(path, &stop));
-            });
-            let origin = Origin {
-                log_id: log_id.clone(),
-                path: path.display().to_string(),
-                size,
-                sha256: Mutex::new(hashed),
-            };
-            let exported = export(
-                source,
-                &self.dir,
-                &options,
-                Layout::Dataset(&origin),
-                progress,
-            );
-            // A log that failed needs no hash.
-            stop.store(true, std::sync::atomic::Ordering::Relaxed);
-            exported
-        });
+        // The SHA-256 taken as the pass reads the file (on its read-ahead thread).
+        let sha256 = Arc::new(Mutex::new(Sha256::new()));
+        let hashing = sha256.clone();
+        let source = crate::Source::file_observed(
+            path,
+            Box::new(move |bytes: &[u8]| {
+                hashing
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .update(bytes)
+            }),
+        );
+        let origin = Origin {
+            log_id: log_id.clone(),
+            path: path.display().to_string(),
+            size,
+            sha256,
+        };
+        let exported = export(
+            source,
+            &self.dir,
+            &options,
+            Layout::Dataset(&origin),
+            progress,
+        );
         match exported {
             Ok((export, Some(tables))) => {
                 let mut state = self.lock();
@@ -285,19 +287,19 @@ pub(super) struct Origin {
     log_id: String,
     path: String,
     size: u64,
-    /// Its SHA-256 in hex, as a thread beside the pass sends it.
-    sha256: Mutex<std::sync::mpsc::Receiver<Result<String>>>,
+    /// Its SHA-256, fed by the pass as it reads the file.
+    sha256: Arc<Mutex<Sha256>>,
 }
 
 impl Origin {
-    /// The SHA-256 of the file, once its thread has read it all.
-    fn sha256(&self) -> Result<String> {
-        let hashed = self.sha256.lock().unwrap_or_else(|p| p.into_inner());
-        hashed.recv().unwrap_or_else(|_| {
-            Err(ExportError::new(ExportErrorKind::Dataset {
-                what: "the thread taking the log's SHA-256 ended without it".into(),
-            }))
-        })
+    /// The SHA-256 of the file in hex, once the pass has read it to its end.
+    fn sha256(&self) -> String {
+        let hash = self
+            .sha256
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .clone();
+        hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
     }
 }
 
@@ -307,41 +309,18 @@ pub(super) struct LogTables([RecordBatch; 4]);
 
 /// The `log_id` of a file ([`LOG_ID_RULE`]) and its size.
 fn log_id(path: &Path) -> Result<(String, u64)> {
-    let mut hash = xxhash_rust::xxh3::Xxh3::new();
-    let size = read_through(path, &Default::default(), |bytes| hash.update(bytes))?;
-    Ok((format!("{:016x}", hash.digest()), size))
-}
-
-/// The SHA-256 of a file, in hex; an error once `stop` is set.
-fn sha256(path: &Path, stop: &std::sync::atomic::AtomicBool) -> Result<String> {
-    let mut hash = Sha256::new();
-    read_through(path, stop, |bytes| hash.update(bytes))?;
-    Ok(hash.finalize().iter().map(|b| format!("{b:02x}")).collect())
-}
-
-/// Hands the bytes of the file at `path` to `f` in 1 MiB pieces, until its end or
-/// until `stop` is set (an error); returns the bytes read.
-fn read_through(
-    path: &Path,
-    stop: &std::sync::atomic::AtomicBool,
-    mut f: impl FnMut(&[u8]),
-) -> Result<u64> {
     let mut file = File::open(path).map_err(|e| ExportError::io(e, path))?;
+    let mut hash = xxhash_rust::xxh3::Xxh3::new();
     let mut buffer = vec![0u8; 1 << 20];
     let mut size = 0u64;
     loop {
-        if stop.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(ExportError::new(ExportErrorKind::Dataset {
-                what: "stopped".into(),
-            }));
-        }
         let n = match file.read(&mut buffer) {
-            Ok(0) => return Ok(size),
+            Ok(0) => return Ok((format!("{:016x}", hash.digest()), size)),
             Ok(n) => n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => return Err(ExportError::io(e, path)),
         };
-        f(&buffer[..n]);
+        hash.update(&buffer[..n]);
         size += n as u64;
     }
 }
@@ -460,7 +439,7 @@ impl LogTables {
                 ids(1),
                 text(Some(origin.path.clone())),
                 Arc::new(UInt64Builder::new().append_value_then(origin.size)),
-                text(Some(origin.sha256()?)),
+                text(Some(origin.sha256())),
                 Arc::new(UInt64Builder::new().append_value_then(start)),
                 Arc::new(start_utc.finish()),
                 text(utc.as_ref().map(|c| c.source().to_string())),

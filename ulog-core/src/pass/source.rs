@@ -25,6 +25,25 @@ use crate::pass::driver::{Driver, Ran, ScanSummary, Visit};
 ///   process): read in chunks as framing goes.
 pub struct Source<'a> {
     pub(crate) inner: Inner<'a>,
+    /// Sees each byte of a file as it is read ([`Source::file_observed`]).
+    pub(crate) observer: Option<Observer<'a>>,
+}
+
+/// What [`Source::file_observed`] hands the bytes to.
+pub(crate) type Observer<'a> = Box<dyn FnMut(&[u8]) + Send + 'a>;
+
+/// A reader whose bytes `observer` sees as they are read.
+struct Observed<'a, R> {
+    reader: R,
+    observer: Observer<'a>,
+}
+
+impl<R: Read> Read for Observed<'_, R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.reader.read(buf)?;
+        (self.observer)(&buf[..n]);
+        Ok(n)
+    }
 }
 
 pub(crate) enum Inner<'a> {
@@ -40,6 +59,7 @@ impl<'a> Source<'a> {
     pub fn reader(reader: impl Read + Send + 'a) -> Source<'a> {
         Source {
             inner: Inner::Reader(Box::new(reader)),
+            observer: None,
         }
     }
 
@@ -48,6 +68,18 @@ impl<'a> Source<'a> {
     pub fn file(path: impl AsRef<Path>) -> Source<'static> {
         Source {
             inner: Inner::File(path.as_ref().to_owned()),
+            observer: None,
+        }
+    }
+
+    /// [`Source::file`], each byte handed to `observer` once, in order, as the pass
+    /// reads it (on the thread that reads, which is not the pass's with read-ahead):
+    /// a hash of the file at no second read. It sees the whole file when the pass
+    /// frames it to its end.
+    pub(crate) fn file_observed(path: impl AsRef<Path>, observer: Observer<'a>) -> Source<'a> {
+        Source {
+            inner: Inner::File(path.as_ref().to_owned()),
+            observer: Some(observer),
         }
     }
 }
@@ -56,6 +88,7 @@ impl<'a> From<&'a [u8]> for Source<'a> {
     fn from(bytes: &'a [u8]) -> Source<'a> {
         Source {
             inner: Inner::Bytes(bytes, None),
+            observer: None,
         }
     }
 }
@@ -70,6 +103,7 @@ impl<'a> From<&'a LogFile> for Source<'a> {
     fn from(file: &'a LogFile) -> Source<'a> {
         Source {
             inner: Inner::Bytes(file.bytes(), Some(file.path())),
+            observer: None,
         }
     }
 }
@@ -78,6 +112,7 @@ impl<'a, 'd: 'a> From<&'a ULog<'d>> for Source<'a> {
     fn from(log: &'a ULog<'d>) -> Source<'a> {
         Source {
             inner: Inner::Parsed(log),
+            observer: None,
         }
     }
 }
@@ -228,17 +263,42 @@ where
         }
         Inner::Reader(mut reader) => read_chunks(&mut reader, driver, f)?,
         Inner::File(path) => {
-            let mut file = open(&path)?;
-            if read_ahead {
-                read_ahead_chunks(file, AHEAD_CHUNK, CARRY_ROOM, driver, f)
-            } else {
-                read_chunks(&mut file, driver, f)
+            let file = open(&path)?;
+            match source.observer {
+                Some(observer) => read_file(
+                    Observed {
+                        reader: file,
+                        observer,
+                    },
+                    read_ahead,
+                    driver,
+                    f,
+                ),
+                None => read_file(file, read_ahead, driver, f),
             }
             .map_err(in_file)?
         }
     }
     f.end(&driver.framer);
     Ok(())
+}
+
+/// Reads a file in chunks, read ahead on a second thread or not.
+fn read_file<R, F>(
+    mut file: R,
+    read_ahead: bool,
+    driver: &mut Driver,
+    f: &mut F,
+) -> Result<(), ReadError>
+where
+    R: Read + Send,
+    F: Visit + ?Sized,
+{
+    if read_ahead {
+        read_ahead_chunks(file, AHEAD_CHUNK, CARRY_ROOM, driver, f)
+    } else {
+        read_chunks(&mut file, driver, f)
+    }
 }
 
 /// Reads `src` in chunks, keeping what framing still needs at the front of the
