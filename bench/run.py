@@ -607,9 +607,11 @@ def targets(results, size):
         ratio(f"Parquet export (zstd, {what}) ≤ 0.33 × flight-review-rs ulog-convert",
               t(ours), t(fr), 0.33)
         a, b = out_bytes(med.get(ours)), out_bytes(med.get(fr))
-        label = f"Parquet (zstd, {what}) files within ±20 % of flight-review-rs's size"
+        # The fleet issue's words: no larger than its files + 20 % (smaller files for
+        # the same data are no miss).
+        label = f"Parquet (zstd, {what}) files ≤ 1.2 × flight-review-rs's size"
         if a and b:
-            out.append((label, f"{a / b:.3f}×", 0.8 <= a / b <= 1.2))
+            out.append((label, f"{a / b:.3f}×", a / b <= 1.2))
         else:
             out.append((label, "not measured", None))
     ratio("generic decode (stream) ≤ 0.5 × ulog_cpp stream", t("ours (stream)"), t("ulog_cpp (stream)"), 0.5)

@@ -268,6 +268,11 @@ pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterPropert
         .set_key_value_metadata(Some(metadata))
         .set_dictionary_enabled(narrow)
         .set_dictionary_page_size_limit(DICTIONARY_PAGE_BYTES)
+        // Pages cut by their size only (1 MiB), not also every 20,000 rows: each page
+        // is compressed alone, and 20,000 floats are too little for zstd to find much.
+        // Flattened zstd files half as large (log_61 ×90: 26.2 MB against 51.3 MB;
+        // events ×200: 19.9 against 31.9), and fewer pages to compress.
+        .set_data_page_row_count_limit(usize::MAX)
         // Page statistics (the column index) are more metadata per column held until
         // the footer; wide tables keep the statistics of each column chunk only.
         .set_statistics_enabled(if narrow {
