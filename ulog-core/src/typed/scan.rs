@@ -7,7 +7,7 @@ use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
 use crate::pass::order::time_ordered;
 use crate::pass::scan::{ScanFlow, ScanOptions, ScanOrder};
-use crate::pass::source::{drive, Source};
+use crate::pass::source::{drive_pass, Source};
 
 use super::error::TypedError;
 use super::plans::Plans;
@@ -91,18 +91,21 @@ where
     let raw_others = options.raw_others;
     match options.order {
         ScanOrder::File => {
-            drive(source.into(), options.read_ahead, &mut |r: DataRecord<
-                '_,
-            >| {
-                // Each subscription's timestamps, unwrapped as its records come.
-                hand(&mut plans, raw_others, &mut f, &r, |u| u.push(r.payload))
-            })
+            drive_pass(
+                source.into(),
+                options.read_ahead,
+                options.keep_metadata,
+                &mut |r: DataRecord<'_>| {
+                    // Each subscription's timestamps, unwrapped as its records come.
+                    hand(&mut plans, raw_others, &mut f, &r, |u| u.push(r.payload))
+                },
+            )
         }
         ScanOrder::Timestamp => {
             // Through a trait object: `f` keeps one direct call site (the file-order
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
-            time_ordered(source.into(), &mut |r, t| {
+            time_ordered(source.into(), options.keep_metadata, &mut |r, t| {
                 hand(&mut plans, raw_others, f, &r, |_| t)
             })
         }
