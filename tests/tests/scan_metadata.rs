@@ -13,7 +13,11 @@ use ulog_tests::{corpus_files, stem};
 fn same(name: &str, kept: &LogMetadata, whole: &ULog<'_>) {
     let log = kept.log().unwrap();
     assert_eq!(log.header(), whole.header(), "{name}");
-    assert_eq!(log.flag_bits().map(|b| b.compat_flags), whole.flag_bits().map(|b| b.compat_flags), "{name}");
+    assert_eq!(
+        log.flag_bits().map(|b| b.compat_flags),
+        whole.flag_bits().map(|b| b.compat_flags),
+        "{name}"
+    );
     assert_eq!(log.info(), whole.info(), "{name}");
     assert_eq!(log.multi_info(), whole.multi_info(), "{name}");
     assert_eq!(log.initial_params(), whole.initial_params(), "{name}");

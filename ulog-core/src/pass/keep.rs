@@ -80,7 +80,8 @@ impl LogMetadata {
     /// [`ULog::utc`] of the whole log: from the GPS times kept as the data went by,
     /// else from information key `boot_time_utc_us`.
     pub fn utc(&self) -> Option<UtcClock> {
-        self.utc.clock(|| self.log().ok().and_then(|log| log.boot_clock()))
+        self.utc
+            .clock(|| self.log().ok().and_then(|log| log.boot_clock()))
     }
 
     /// [`ULog::events`] of the whole log: the rows of its `event` topic (instance 0),

@@ -55,7 +55,9 @@ where
 {
     let mut summary = walk(log, f);
     if keep {
-        let kept = drive_keeping(Source::from(log), false, &mut |_: DataRecord<'_>| Hand::Next)?;
+        let kept = drive_keeping(Source::from(log), false, &mut |_: DataRecord<'_>| {
+            Hand::Next
+        })?;
         summary.metadata = kept.metadata;
     }
     Ok(summary)
