@@ -256,3 +256,62 @@ impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
         self.inner.end(framer);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::pass::scan::{scan, ScanOptions};
+    use crate::testing::LogBuilder;
+    use crate::ULog;
+
+    /// Parameter changes and dropouts take the highest data timestamp before them
+    /// (not the last one: rows may go back in time), and never one below the
+    /// header's, as in the whole-file parse; a narrow (v0) timestamp that wraps is
+    /// unwrapped.
+    #[test]
+    fn times_are_the_whole_parses() {
+        let mut b = LogBuilder::new(1, 7_000);
+        b.info_str("sys_name", "PX4");
+        b.param("int32_t A", &1i32.to_le_bytes());
+        b.format("t:uint64_t timestamp;uint8_t x;");
+        b.format("n:uint16_t timestamp;uint8_t x;");
+        b.subscribe(0, 0, "t").subscribe(0, 1, "n");
+        b.param("int32_t A", &2i32.to_le_bytes());
+        let wide = |t: u64| [&t.to_le_bytes()[..], &[1]].concat();
+        let narrow = |t: u16| [&t.to_le_bytes()[..], &[1]].concat();
+        b.data(0, &wide(5_000));
+        b.dropout(30);
+        b.data(0, &wide(9_000)).data(0, &wide(8_000));
+        b.param("int32_t A", &3i32.to_le_bytes());
+        b.data(1, &narrow(65_000)).data(1, &narrow(10));
+        b.dropout(40).log(b'3', 9_500, "late");
+        b.param("int32_t A", &4i32.to_le_bytes());
+        let bytes = b.into_bytes();
+        let whole = ULog::parse(&bytes).unwrap();
+        let keep = ScanOptions::default().keep_metadata(true);
+        let summary = scan(&bytes, &keep, |_| {}).unwrap();
+        let kept = summary.metadata.unwrap();
+        let log = kept.log().unwrap();
+        let changes = |l: &ULog<'_>| -> Vec<(u64, String)> {
+            l.param_changes()
+                .iter()
+                .map(|c| (c.timestamp, format!("{:?}", c.kv.value())))
+                .collect()
+        };
+        assert_eq!(changes(&log), changes(&whole));
+        assert_eq!(
+            changes(&log).iter().map(|c| c.0).collect::<Vec<_>>(),
+            [7_000, 9_000, 65_546]
+        );
+        let dropouts = |l: &ULog<'_>| -> Vec<(u64, u16)> {
+            l.dropouts()
+                .iter()
+                .map(|d| (d.timestamp, d.duration_ms))
+                .collect()
+        };
+        assert_eq!(dropouts(&log), [(7_000, 30), (65_546, 40)]);
+        assert_eq!(dropouts(&log), dropouts(&whole));
+        assert_eq!(log.logged_messages().len(), 1);
+        assert_eq!(kept.last_timestamp(), whole.last_timestamp());
+        assert_eq!(log.last_timestamp(), 65_546);
+    }
+}
