@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
 use crate::pass::order::time_ordered;
-use crate::pass::source::{drive_pass, Source};
+use crate::pass::source::{drive, drive_keeping, Source};
 
 /// The order a pass hands records out in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -176,12 +176,21 @@ where
     // `f` called from each order's own closure (one closure shared by both kept it
     // out of line).
     match options.order {
-        ScanOrder::File => drive_pass(
-            source.into(),
-            options.read_ahead,
-            options.keep_metadata,
-            &mut |r: DataRecord<'_>| Hand::go_on(f(r).go_on()),
-        ),
+        ScanOrder::File if options.keep_metadata => {
+            // Through a trait object: `f` keeps one direct call site, the plain
+            // file-order loop's.
+            let f: &mut dyn FnMut(DataRecord<'_>) -> R = &mut f;
+            drive_keeping(source.into(), options.read_ahead, &mut |r: DataRecord<
+                '_,
+            >| {
+                Hand::go_on(f(r).go_on())
+            })
+        }
+        ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r: DataRecord<
+            '_,
+        >| {
+            Hand::go_on(f(r).go_on())
+        }),
         ScanOrder::Timestamp => time_ordered(source.into(), options.keep_metadata, &mut |r, _| {
             Hand::go_on(f(r).go_on())
         }),

@@ -200,23 +200,6 @@ where
     Ok(summary)
 }
 
-/// [`drive`], or [`drive_keeping`] when `keep` says so.
-pub(crate) fn drive_pass<F>(
-    source: Source<'_>,
-    read_ahead: bool,
-    keep: bool,
-    f: &mut F,
-) -> Result<ScanSummary, ReadError>
-where
-    F: Visit + ?Sized,
-{
-    if keep {
-        drive_keeping(source, read_ahead, f)
-    } else {
-        drive(source, read_ahead, f)
-    }
-}
-
 fn drive_with<F>(
     source: Source<'_>,
     read_ahead: bool,
