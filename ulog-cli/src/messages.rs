@@ -4,7 +4,7 @@
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
-use ulog_core::events::{EventFinding, EventOptions, Metadata};
+use ulog_core::events::{EventFinding, EventOptions, Events, Metadata};
 use ulog_core::read::LogLevel;
 use ulog_core::{ULog, Value};
 
@@ -62,7 +62,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let metadata = Metadata::from_bytes(&bytes).map_err(|e| Failure::about(&shown, e))?;
         options = options.metadata(metadata);
     }
-    let (lines, findings) = lines(&log, &options, args.no_tagged);
+    let (lines, findings) = lines(&log, || log.events(&options), args.no_tagged);
     let mut stderr = io::stderr();
     for f in &findings {
         let _ = writeln!(stderr, "ulog: {name}: {f}");
@@ -80,10 +80,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// The messages `ulog messages` prints, as (timestamp, level name, text) in its order,
-/// with what decoding the events found (printed by the caller).
+/// with what decoding the events found (printed by the caller). `events` gives the
+/// log's events, decoded ([`ULog::events`], or those a pass kept), for a PX4 log.
 pub fn lines(
     log: &ULog<'_>,
-    options: &EventOptions,
+    events: impl FnOnce() -> Events,
     no_tagged: bool,
 ) -> (Vec<(u64, &'static str, String)>, Vec<EventFinding>) {
     // (timestamp, level, text), events first.
@@ -92,7 +93,7 @@ pub fn lines(
     let px4 = matches!(log.info_value("sys_name"), Some(Value::Str(s)) if s.as_bytes() == b"PX4");
     let mut decoded = false;
     if px4 {
-        let events = log.events(options);
+        let events = events();
         decoded = !events
             .findings
             .iter()

@@ -1,7 +1,9 @@
 //! Memory of `ulog parquet` and `ulog check` on the inputs that used to blow it up
 //! (issue: reliability, items 6–8): each command runs in a child whose data segment is
 //! limited (`ulimit -d`, which on Linux counts the heap and private writable mappings)
-//! to twice the input plus a fixed allowance, and must succeed under it.
+//! to twice the input plus a fixed allowance, and must succeed under it. And `ulog
+//! report` of a long log, under a limit well below the log's size: it reads the file
+//! in passes, never all of it at once.
 
 mod common;
 
@@ -117,6 +119,104 @@ fn run_limited(input: &Path, args: &[&str], statuses: &[i32]) {
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// Runs `ulog ARGS` with its data segment limited to `limit_mib`; panics with its
+/// stderr unless it succeeds.
+fn run_under(limit_mib: u64, args: &[&str]) {
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -d {} && exec \"$0\" \"$@\"",
+            limit_mib * 1024
+        ))
+        .arg(env!("CARGO_BIN_EXE_ulog"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "ulog {} under {limit_mib} MiB: {:?}\n{}",
+        args.join(" "),
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A PX4-like log of about `mib` MiB: attitude at 250 Hz, the local position at
+/// 50 Hz, status and battery at 5 Hz, with information, a parameter and messages.
+fn long_flight(mib: usize) -> Vec<u8> {
+    let mut b = flag_bits();
+    b.info_str("sys_name", "PX4");
+    b.param("int32_t MAV_TYPE", &2i32.to_le_bytes());
+    b.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+    b.format(
+        "vehicle_local_position:uint64_t timestamp;float x;float y;float z;float vx;\
+         float vy;float vz;bool xy_valid;uint8_t[3] _padding0;",
+    );
+    b.format("vehicle_status:uint64_t timestamp;uint8_t nav_state;uint8_t arming_state;");
+    b.format("battery_status:uint64_t timestamp;float voltage_v;float remaining;");
+    for (id, name) in [
+        "vehicle_attitude",
+        "vehicle_local_position",
+        "vehicle_status",
+        "battery_status",
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        b.subscribe(0, id as u16, name);
+    }
+    let f32s = |t: u64, values: &[f32]| -> Vec<u8> {
+        let mut p = t.to_le_bytes().to_vec();
+        values
+            .iter()
+            .for_each(|v| p.extend_from_slice(&v.to_le_bytes()));
+        p
+    };
+    let mut t = 1_000_000u64;
+    while b.bytes().len() < mib << 20 {
+        t += 4000;
+        let a = (t as f32 / 1e7).sin();
+        b.data(0, &f32s(t, &[a.cos(), a.sin(), 0.0, 0.0]));
+        if t % 20_000 == 0 {
+            let mut p = f32s(t, &[a * 10.0, a * 5.0, -a, 0.1, 0.2, 0.3]);
+            p.extend_from_slice(&[1, 0, 0, 0]);
+            b.data(1, &p);
+        }
+        if t % 200_000 == 0 {
+            let mut p = t.to_le_bytes().to_vec();
+            p.extend_from_slice(&[(t / 60_000_000 % 4) as u8, 2]);
+            b.data(2, &p);
+            b.data(3, &f32s(t, &[16.0 - a, 0.5]));
+        }
+        if t % 100_000_000 == 0 {
+            b.log(b'6', t, "still flying");
+        }
+    }
+    b.into_bytes()
+}
+
+/// The report of a log of 160 MiB runs in half that: no copy of the log, only the
+/// page and the read buffers.
+#[test]
+fn a_report_stays_far_below_the_logs_size() {
+    let dir = common::scratch("memory_report");
+    let log = dir.join("long.ulg");
+    std::fs::write(&log, long_flight(160)).unwrap();
+    let page = dir.join("long.html");
+    run_under(
+        80,
+        &[
+            "report",
+            log.to_str().unwrap(),
+            "-o",
+            page.to_str().unwrap(),
+        ],
+    );
+    let text = std::fs::read_to_string(&page).unwrap();
+    assert!(text.contains("Roll angle"), "the attitude is drawn");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn check_and_parquet(test: &str, bytes: &[u8], parquet_args: &[&[&str]]) {

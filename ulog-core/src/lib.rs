@@ -151,6 +151,7 @@ pub mod read {
         ParamDefaults, ParamDiff,
     };
     pub use crate::log::utc::{UtcClock, UtcSource, UtcTime};
+    pub use crate::pass::keep::LogMetadata;
     pub use crate::pass::scan::{ScanFlow, ScanOrder};
     pub use crate::value::{LogText, ValueArray};
 }

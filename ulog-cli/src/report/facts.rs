@@ -1,9 +1,9 @@
 //! The header of a report (vehicle, software, times, figures, damage) and its tables
 //! (messages, parameters, information), as text.
 
-use ulog_core::events::EventOptions;
-use ulog_core::read::{DefaultKind, KeyValue};
-use ulog_core::{ULog, Value};
+use ulog_core::events::Events;
+use ulog_core::read::{DefaultKind, KeyValue, UtcClock};
+use ulog_core::{Finding, ULog, Value};
 
 use super::flight::Figures;
 use crate::pyfmt::py_str;
@@ -11,8 +11,17 @@ use crate::pyfmt::py_str;
 /// One header row: what, and its value.
 pub type Row = (String, String);
 
-/// The header rows; times from `start` (microseconds since boot).
-pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Vec<Row> {
+/// The header rows of `log` (its metadata: the UTC time and the findings are
+/// `utc` and `findings`, from the passes); times from `start` (microseconds since
+/// boot).
+pub fn header(
+    log: &ULog<'_>,
+    utc: Option<UtcClock>,
+    findings: &[Finding],
+    start: u64,
+    figures: &Figures,
+    armed_s: f64,
+) -> Vec<Row> {
     let mut rows: Vec<Row> = Vec::new();
     let mut add = |k: &str, v: String| rows.push((k.to_owned(), v));
     let info = |key: &str| log.info_value(key).map(|v| py_str(&v));
@@ -71,7 +80,7 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
     );
     add(
         "Start",
-        match log.utc() {
+        match utc {
             Some(clock) => format!("{} UTC (from {})", clock.at(start), clock.source()),
             None => format!(
                 "{:.3} s after boot (no UTC time in the log)",
@@ -122,8 +131,7 @@ pub fn header(log: &ULog<'_>, start: u64, figures: &Figures, armed_s: f64) -> Ve
             None => "no battery_status readings".into(),
         },
     );
-    let damage: Vec<String> = log
-        .findings()
+    let damage: Vec<String> = findings
         .iter()
         .filter(|f| f.is_damage())
         .map(ToString::to_string)
@@ -165,11 +173,15 @@ fn param(log: &ULog<'_>, name: &str) -> Option<String> {
     log.params_at_end().get(name).map(py_str)
 }
 
-/// The logged messages and events as `ulog messages` shows them: (seconds since
-/// `start`, level, text).
-pub fn messages(log: &ULog<'_>, start: u64) -> Vec<(f64, &'static str, String)> {
+/// The logged messages and events (`events`) as `ulog messages` shows them: (seconds
+/// since `start`, level, text).
+pub fn messages(
+    log: &ULog<'_>,
+    events: impl FnOnce() -> Events,
+    start: u64,
+) -> Vec<(f64, &'static str, String)> {
     let start = start as f64;
-    let (lines, _) = crate::messages::lines(log, &EventOptions::default(), false);
+    let (lines, _) = crate::messages::lines(log, events, false);
     lines
         .into_iter()
         .map(|(t, level, text)| ((t as f64 - start) / 1e6, level, text))

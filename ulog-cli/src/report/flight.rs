@@ -1,13 +1,16 @@
 //! What the report reads through typed bindings: attitude (Euler angles from the
-//! quaternions), flight modes and arming, takeoff and landing, the local track and the
-//! summary's distance, altitude, speed and battery figures.
+//! quaternions), the local track and the summary's distance, altitude, speed and
+//! battery figures (flight modes, arming, takeoff and landing: [`super::timeline`]).
 //!
 //! One struct per topic, whatever the firmware: fields that only some firmware logs
-//! are `Option`s, and the reader finds the rest by name.
+//! are `Option`s, and the reader finds the rest by name. Each is read from the topic
+//! `ULog::read` picks (instance 0), decoded with the plan it makes, as the second pass
+//! ([`super::pass`]) hands the rows.
 
-use serde::Serialize;
+use ulog_core::typed::Plan;
 use ulog_core::{ULog, ULogMessage};
 
+use super::pass::{Routes, Rows};
 use super::table::{Builder, Table};
 use crate::report::plots::Plot;
 
@@ -33,16 +36,16 @@ struct VehicleAttitudeSetpoint {
 }
 
 #[derive(ULogMessage, Debug, Clone, Copy)]
-struct VehicleStatus {
-    timestamp: u64,
-    nav_state: u8,
-    arming_state: u8,
+pub(super) struct VehicleStatus {
+    pub timestamp: u64,
+    pub nav_state: u8,
+    pub arming_state: u8,
 }
 
 #[derive(ULogMessage, Debug, Clone, Copy)]
-struct VehicleLandDetected {
-    timestamp: u64,
-    landed: bool,
+pub(super) struct VehicleLandDetected {
+    pub timestamp: u64,
+    pub landed: bool,
 }
 
 #[derive(ULogMessage, Debug, Clone, Copy)]
@@ -65,6 +68,18 @@ struct BatteryStatus {
     discharged_mah: Option<f32>,
 }
 
+/// The subscription `ULog::read::<T>(0)` reads, and the plan it decodes its rows
+/// with; `None` where the log has no such topic or its format does not fit `T`.
+pub(super) fn typed<T: ULogMessage>(log: &ULog<'_>) -> Option<(usize, Plan<T>)> {
+    let rows = log.read::<T>(0).ok()?;
+    Some((rows.topic().subscription().index(), rows.plan().clone()))
+}
+
+/// The data messages of subscription `sub`, as the first pass counted them.
+fn count(rows: &[usize], sub: usize) -> usize {
+    rows.get(sub).copied().unwrap_or(0)
+}
+
 /// Roll, pitch and yaw (degrees) of a unit quaternion (w, x, y, z), as PX4's
 /// `matrix::Eulerf` gives them.
 fn euler(q: [f32; 4]) -> [f32; 3] {
@@ -75,67 +90,127 @@ fn euler(q: [f32; 4]) -> [f32; 3] {
     [roll, pitch, yaw].map(|a| a.to_degrees() as f32)
 }
 
-/// The roll, pitch and yaw plots (estimate and setpoint), where the log has attitude.
-pub fn attitude(log: &ULog<'_>, start_us: u64, end_us: u64) -> Vec<Plot> {
-    let estimate = log.read::<VehicleAttitude>(0).ok().map(|rows| {
-        let mut b = Builder::new(names("estimate"), rows.len(), start_us, end_us);
-        for a in rows.iter().filter_map(Result::ok) {
-            let angles = match (a.q, a.roll, a.pitch, a.yaw) {
-                (Some(q), ..) => euler(q),
-                (None, Some(r), Some(p), Some(y)) => [r, p, y].map(f32::to_degrees),
-                _ => continue,
-            };
-            b.push(a.timestamp, &angles);
-        }
-        b.finish()
-    });
-    let setpoint = log.read::<VehicleAttitudeSetpoint>(0).ok().map(|rows| {
-        let mut b = Builder::new(names("setpoint"), rows.len(), start_us, end_us);
-        for s in rows.iter().filter_map(Result::ok) {
-            let angles = match (s.roll_body, s.pitch_body, s.yaw_body, s.q_d) {
-                (Some(r), Some(p), Some(y), _) => [r, p, y].map(f32::to_degrees),
-                (.., Some(q)) => euler(q),
-                _ => continue,
-            };
-            b.push(s.timestamp, &angles);
-        }
-        b.finish()
-    });
-    let mut plots = Vec::new();
-    for (axis, (id, title)) in [
-        ("roll", "Roll angle"),
-        ("pitch", "Pitch angle"),
-        ("yaw", "Yaw angle"),
-    ]
-    .iter()
-    .enumerate()
-    {
-        let mut plot = Plot {
-            id: (*id).to_owned(),
-            title: (*title).to_owned(),
-            unit: "deg".into(),
-            sources: Vec::new(),
-            tables: Vec::new(),
+/// Roll, pitch and yaw (degrees) of an attitude row, where it has them.
+trait Angles {
+    fn angles(&self) -> Option<(u64, [f32; 3])>;
+}
+
+impl Angles for VehicleAttitude {
+    fn angles(&self) -> Option<(u64, [f32; 3])> {
+        let angles = match (self.q, self.roll, self.pitch, self.yaw) {
+            (Some(q), ..) => euler(q),
+            (None, Some(r), Some(p), Some(y)) => [r, p, y].map(f32::to_degrees),
+            _ => return None,
         };
-        for (table, topic) in [
-            (&estimate, "vehicle_attitude"),
-            (&setpoint, "vehicle_attitude_setpoint"),
-        ] {
-            if let Some(t) = table.as_ref().filter(|t| !t.x.is_empty()) {
-                plot.sources.push(topic.to_owned());
-                plot.tables.push(Table {
-                    labels: vec![t.labels[axis].clone()],
-                    x: t.x.clone(),
-                    y: vec![t.y[axis].clone()],
-                    thinned: t.thinned,
-                });
-            }
-        }
-        if !plot.tables.is_empty() {
-            plots.push(plot);
+        Some((self.timestamp, angles))
+    }
+}
+
+impl Angles for VehicleAttitudeSetpoint {
+    fn angles(&self) -> Option<(u64, [f32; 3])> {
+        let angles = match (self.roll_body, self.pitch_body, self.yaw_body, self.q_d) {
+            (Some(r), Some(p), Some(y), _) => [r, p, y].map(f32::to_degrees),
+            (.., Some(q)) => euler(q),
+            _ => return None,
+        };
+        Some((self.timestamp, angles))
+    }
+}
+
+/// The angles of one attitude topic, thinned as they come.
+struct AngleRows<T> {
+    sub: usize,
+    plan: Plan<T>,
+    builder: Builder,
+}
+
+impl<T: ULogMessage + Angles> AngleRows<T> {
+    fn new(log: &ULog<'_>, rows: &[usize], what: &str, start_us: u64, end_us: u64) -> Option<Self> {
+        let (sub, plan) = typed::<T>(log)?;
+        let builder = Builder::new(names(what), count(rows, sub), start_us, end_us);
+        Some(AngleRows { sub, plan, builder })
+    }
+}
+
+impl<T: ULogMessage + Angles> Rows for AngleRows<T> {
+    fn push(&mut self, payload: &[u8]) {
+        if let Some((t, angles)) = self.plan.decode(payload).ok().and_then(|a| a.angles()) {
+            self.builder.push(t, &angles);
         }
     }
-    plots
+}
+
+/// The roll, pitch and yaw plots (estimate and setpoint) being read.
+pub struct Attitude {
+    estimate: Option<AngleRows<VehicleAttitude>>,
+    setpoint: Option<AngleRows<VehicleAttitudeSetpoint>>,
+}
+
+/// The attitude plots, to be read where the log has attitude.
+pub fn attitude(log: &ULog<'_>, rows: &[usize], start_us: u64, end_us: u64) -> Attitude {
+    Attitude {
+        estimate: AngleRows::new(log, rows, "estimate", start_us, end_us),
+        setpoint: AngleRows::new(log, rows, "setpoint", start_us, end_us),
+    }
+}
+
+impl Attitude {
+    /// Whether the log has neither topic.
+    pub fn is_none(&self) -> bool {
+        self.estimate.is_none() && self.setpoint.is_none()
+    }
+
+    /// Has the second pass hand the attitude rows here.
+    pub fn route<'c>(&'c mut self, routes: &mut Routes<'c>) {
+        if let Some(e) = &mut self.estimate {
+            routes.add(e.sub, e);
+        }
+        if let Some(s) = &mut self.setpoint {
+            routes.add(s.sub, s);
+        }
+    }
+
+    /// The roll, pitch and yaw plots (estimate and setpoint), where the log has
+    /// attitude.
+    pub fn finish(self) -> Vec<Plot> {
+        let estimate = self.estimate.map(|e| e.builder.finish());
+        let setpoint = self.setpoint.map(|s| s.builder.finish());
+        let mut plots = Vec::new();
+        for (axis, (id, title)) in [
+            ("roll", "Roll angle"),
+            ("pitch", "Pitch angle"),
+            ("yaw", "Yaw angle"),
+        ]
+        .iter()
+        .enumerate()
+        {
+            let mut plot = Plot {
+                id: (*id).to_owned(),
+                title: (*title).to_owned(),
+                unit: "deg".into(),
+                sources: Vec::new(),
+                tables: Vec::new(),
+            };
+            for (table, topic) in [
+                (&estimate, "vehicle_attitude"),
+                (&setpoint, "vehicle_attitude_setpoint"),
+            ] {
+                if let Some(t) = table.as_ref().filter(|t| !t.x.is_empty()) {
+                    plot.sources.push(topic.to_owned());
+                    plot.tables.push(Table {
+                        labels: vec![t.labels[axis].clone()],
+                        x: t.x.clone(),
+                        y: vec![t.y[axis].clone()],
+                        thinned: t.thinned,
+                    });
+                }
+            }
+            if !plot.tables.is_empty() {
+                plots.push(plot);
+            }
+        }
+        plots
+    }
 }
 
 fn names(what: &str) -> Vec<String> {
@@ -143,144 +218,6 @@ fn names(what: &str) -> Vec<String> {
         .iter()
         .map(|a| format!("{a} {what}"))
         .collect()
-}
-
-/// The name of a PX4 flight mode (`vehicle_status.nav_state`).
-pub fn mode_name(nav_state: u8) -> String {
-    let name = match nav_state {
-        0 => "Manual",
-        1 => "Altitude",
-        2 => "Position",
-        3 => "Mission",
-        4 => "Hold",
-        5 => "Return",
-        6 => "Position slow",
-        10 => "Acro",
-        12 => "Descend",
-        13 => "Termination",
-        14 => "Offboard",
-        15 => "Stabilized",
-        17 => "Takeoff",
-        18 => "Land",
-        19 => "Follow target",
-        20 => "Precision land",
-        21 => "Orbit",
-        22 => "VTOL takeoff",
-        n => return format!("mode {n}"),
-    };
-    name.to_owned()
-}
-
-/// A flight mode from one time to another (seconds since the log's start).
-#[derive(Debug, Serialize)]
-pub struct ModeBand {
-    /// Start.
-    pub t0: f64,
-    /// End.
-    pub t1: f64,
-    /// `nav_state`.
-    pub mode: u8,
-    /// Its name.
-    pub name: String,
-}
-
-/// A marked instant: arming, takeoff, a logged error.
-#[derive(Debug, Serialize)]
-pub struct Mark {
-    /// Seconds since the log's start.
-    pub t: f64,
-    /// `arm`, `disarm`, `takeoff`, `landing`, `error`.
-    pub kind: &'static str,
-    /// What to show.
-    pub text: String,
-}
-
-/// Flight modes, arming and takeoff/landing, and the armed time (seconds).
-pub struct Timeline {
-    /// The flight modes.
-    pub modes: Vec<ModeBand>,
-    /// Arming, disarming, takeoffs and landings.
-    pub marks: Vec<Mark>,
-    /// Time armed.
-    pub armed_s: f64,
-}
-
-/// The log's modes and marks from `vehicle_status` and `vehicle_land_detected`.
-pub fn timeline(log: &ULog<'_>, start_us: u64, end_us: u64) -> Timeline {
-    let sec = |t: u64| (t as f64 - start_us as f64) / 1e6;
-    let mut modes: Vec<ModeBand> = Vec::new();
-    let mut marks = Vec::new();
-    let mut armed_s = 0.0;
-    if let Ok(rows) = log.read::<VehicleStatus>(0) {
-        let mut armed_at: Option<f64> = None;
-        // Rows PX4 never stamped left out, as in the plots.
-        for s in rows
-            .iter()
-            .filter_map(Result::ok)
-            .filter(|s| s.timestamp > 0 || start_us == 0)
-        {
-            let t = sec(s.timestamp);
-            match modes.last_mut() {
-                Some(m) if m.mode == s.nav_state => m.t1 = t,
-                last => {
-                    if let Some(m) = last {
-                        m.t1 = t;
-                    }
-                    modes.push(ModeBand {
-                        t0: t,
-                        t1: t,
-                        mode: s.nav_state,
-                        name: mode_name(s.nav_state),
-                    });
-                }
-            }
-            let armed = s.arming_state == 2;
-            match (armed, armed_at) {
-                (true, None) => {
-                    armed_at = Some(t);
-                    marks.push(Mark {
-                        t,
-                        kind: "arm",
-                        text: "armed".into(),
-                    });
-                }
-                (false, Some(at)) => {
-                    armed_s += t - at;
-                    armed_at = None;
-                    marks.push(Mark {
-                        t,
-                        kind: "disarm",
-                        text: "disarmed".into(),
-                    });
-                }
-                _ => {}
-            }
-        }
-        if let Some(at) = armed_at {
-            armed_s += sec(end_us) - at;
-        }
-        if let Some(m) = modes.last_mut() {
-            m.t1 = m.t1.max(sec(end_us));
-        }
-    }
-    if let Ok(rows) = log.read::<VehicleLandDetected>(0) {
-        let mut landed: Option<bool> = None;
-        for l in rows.iter().filter_map(Result::ok) {
-            if landed.is_some_and(|was| was != l.landed) {
-                marks.push(Mark {
-                    t: sec(l.timestamp),
-                    kind: if l.landed { "landing" } else { "takeoff" },
-                    text: if l.landed { "landed" } else { "takeoff" }.into(),
-                });
-            }
-            landed = Some(l.landed);
-        }
-    }
-    Timeline {
-        modes,
-        marks,
-        armed_s,
-    }
 }
 
 /// Figures of the header from the local position estimate and the battery.
@@ -311,70 +248,175 @@ pub struct Battery {
 /// not flight.
 const MAX_SPEED_M_S: f32 = 100.0;
 
-/// The header's figures, where the log has the topics.
-pub fn figures(log: &ULog<'_>) -> Figures {
-    let mut f = Figures::default();
-    if let Ok(rows) = log.read::<VehicleLocalPosition>(0) {
-        let mut ground: Option<f32> = None;
-        let mut prev: Option<VehicleLocalPosition> = None;
-        let (mut distance, mut top, mut fastest) = (0f64, f32::NEG_INFINITY, 0f32);
-        for p in rows.iter().filter_map(Result::ok) {
-            if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-                continue;
-            }
-            let g = *ground.get_or_insert(-p.z);
-            top = top.max(-p.z - g);
-            let speed = (p.vx * p.vx + p.vy * p.vy).sqrt();
-            if speed.is_finite() {
-                fastest = fastest.max(speed);
-            }
-            if let Some(a) = prev.filter(|a| a.xy_valid && p.xy_valid) {
-                let (dx, dy, dz) = (p.x - a.x, p.y - a.y, p.z - a.z);
-                let step = (dx * dx + dy * dy + dz * dz).sqrt();
-                let dt = p.timestamp.saturating_sub(a.timestamp) as f32 / 1e6;
-                if step <= MAX_SPEED_M_S * dt.max(1e-3) {
-                    distance += f64::from(step);
-                }
-            }
-            prev = Some(p);
+/// The distance, altitude and speed figures from the local position estimate, as its
+/// rows come.
+struct Flown {
+    sub: usize,
+    plan: Plan<VehicleLocalPosition>,
+    ground: Option<f32>,
+    prev: Option<VehicleLocalPosition>,
+    distance: f64,
+    top: f32,
+    fastest: f32,
+}
+
+impl Rows for Flown {
+    fn push(&mut self, payload: &[u8]) {
+        let Ok(p) = self.plan.decode(payload) else {
+            return;
+        };
+        if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+            return;
         }
-        if ground.is_some() {
-            f.distance_m = Some(distance);
-            f.max_altitude_m = Some(f64::from(top));
-            f.max_speed_m_s = Some(f64::from(fastest));
+        let g = *self.ground.get_or_insert(-p.z);
+        self.top = self.top.max(-p.z - g);
+        let speed = (p.vx * p.vx + p.vy * p.vy).sqrt();
+        if speed.is_finite() {
+            self.fastest = self.fastest.max(speed);
+        }
+        if let Some(a) = self.prev.filter(|a| a.xy_valid && p.xy_valid) {
+            let (dx, dy, dz) = (p.x - a.x, p.y - a.y, p.z - a.z);
+            let step = (dx * dx + dy * dy + dz * dz).sqrt();
+            let dt = p.timestamp.saturating_sub(a.timestamp) as f32 / 1e6;
+            if step <= MAX_SPEED_M_S * dt.max(1e-3) {
+                self.distance += f64::from(step);
+            }
+        }
+        self.prev = Some(p);
+    }
+}
+
+/// The first and last battery readings with a battery connected, as the rows come.
+struct Readings {
+    sub: usize,
+    plan: Plan<BatteryStatus>,
+    first: Option<BatteryStatus>,
+    last: Option<BatteryStatus>,
+}
+
+impl Rows for Readings {
+    fn push(&mut self, payload: &[u8]) {
+        // Before a battery is connected PX4 logs zeros.
+        match self.plan.decode(payload) {
+            Ok(b) if b.voltage_v > 1.0 => {
+                self.first.get_or_insert(b);
+                self.last = Some(b);
+            }
+            _ => {}
         }
     }
-    if let Ok(rows) = log.read::<BatteryStatus>(0) {
-        // Before a battery is connected PX4 logs zeros.
-        let readings: Vec<BatteryStatus> = rows
-            .iter()
-            .filter_map(Result::ok)
-            .filter(|b| b.voltage_v > 1.0)
-            .collect();
-        if let (Some(a), Some(b)) = (readings.first(), readings.last()) {
+}
+
+/// The header's figures being read.
+pub struct FigureRows {
+    flown: Option<Flown>,
+    battery: Option<Readings>,
+}
+
+/// The header's figures, to be read where the log has the topics.
+pub fn figures(log: &ULog<'_>) -> FigureRows {
+    FigureRows {
+        flown: typed::<VehicleLocalPosition>(log).map(|(sub, plan)| Flown {
+            sub,
+            plan,
+            ground: None,
+            prev: None,
+            distance: 0.0,
+            top: f32::NEG_INFINITY,
+            fastest: 0.0,
+        }),
+        battery: typed::<BatteryStatus>(log).map(|(sub, plan)| Readings {
+            sub,
+            plan,
+            first: None,
+            last: None,
+        }),
+    }
+}
+
+impl FigureRows {
+    /// Has the second pass hand the rows of the topics here.
+    pub fn route<'c>(&'c mut self, routes: &mut Routes<'c>) {
+        if let Some(f) = &mut self.flown {
+            routes.add(f.sub, f);
+        }
+        if let Some(b) = &mut self.battery {
+            routes.add(b.sub, b);
+        }
+    }
+
+    /// The header's figures, where the log has the topics.
+    pub fn finish(self) -> Figures {
+        let mut f = Figures::default();
+        if let Some(flown) = self.flown.filter(|f| f.ground.is_some()) {
+            f.distance_m = Some(flown.distance);
+            f.max_altitude_m = Some(f64::from(flown.top));
+            f.max_speed_m_s = Some(f64::from(flown.fastest));
+        }
+        if let Some(Readings {
+            first: Some(a),
+            last: Some(b),
+            ..
+        }) = self.battery
+        {
             f.battery = Some(Battery {
                 voltage: (a.voltage_v, b.voltage_v),
                 remaining: (a.remaining, b.remaining),
                 discharged_mah: b.discharged_mah.filter(|m| m.is_finite()),
             });
         }
+        f
     }
-    f
 }
 
-/// The track in local metres (east, north) from the local position estimate, at
-/// most `points` points (every n-th estimate).
-pub fn track(log: &ULog<'_>, points: usize) -> Option<Vec<[f32; 2]>> {
-    let rows = log.read::<VehicleLocalPosition>(0).ok()?;
-    let step = rows.len().div_ceil(points.max(1)).max(1);
-    let track: Vec<[f32; 2]> = rows
-        .iter()
-        .step_by(step)
-        .filter_map(Result::ok)
-        .filter(|p| p.xy_valid && p.x.is_finite() && p.y.is_finite())
-        .map(|p| [p.y, p.x])
-        .collect();
-    (track.len() > 1).then_some(track)
+/// The track in local metres (east, north) from the local position estimate, every
+/// n-th estimate, being read.
+pub struct Track {
+    sub: usize,
+    plan: Plan<VehicleLocalPosition>,
+    step: usize,
+    row: usize,
+    points: Vec<[f32; 2]>,
+}
+
+/// The track, to be read where the log has the local position: at most `points`
+/// points (every n-th estimate).
+pub fn track(log: &ULog<'_>, rows: &[usize], points: usize) -> Option<Track> {
+    let (sub, plan) = typed::<VehicleLocalPosition>(log)?;
+    Some(Track {
+        sub,
+        plan,
+        step: count(rows, sub).div_ceil(points.max(1)).max(1),
+        row: 0,
+        points: Vec::new(),
+    })
+}
+
+impl Rows for Track {
+    fn push(&mut self, payload: &[u8]) {
+        let row = self.row;
+        self.row += 1;
+        if row % self.step != 0 {
+            return;
+        }
+        if let Ok(p) = self.plan.decode(payload) {
+            if p.xy_valid && p.x.is_finite() && p.y.is_finite() {
+                self.points.push([p.y, p.x]);
+            }
+        }
+    }
+}
+
+impl Track {
+    /// Has the second pass hand the local position rows here.
+    pub fn route<'c>(&'c mut self, routes: &mut Routes<'c>) {
+        routes.add(self.sub, self);
+    }
+
+    /// The track, when it has two points or more.
+    pub fn finish(self) -> Option<Vec<[f32; 2]>> {
+        (self.points.len() > 1).then_some(self.points)
+    }
 }
 
 #[cfg(test)]
@@ -391,11 +433,5 @@ mod tests {
         // Pitch away from ±90°, where roll and yaw are undefined.
         let (c, s) = (15f32.to_radians().cos(), 15f32.to_radians().sin());
         assert!(close(euler([c, 0.0, s, 0.0]), [0.0, 30.0, 0.0]));
-    }
-
-    #[test]
-    fn modes_have_names() {
-        assert_eq!(mode_name(2), "Position");
-        assert_eq!(mode_name(99), "mode 99");
     }
 }

@@ -9,8 +9,8 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::facts::Row;
-use super::flight::{Mark, ModeBand};
 use super::plots::{Missing, Plot};
+use super::timeline::{Mark, ModeBand};
 use crate::markup::escape;
 
 const UPLOT_JS: &str = include_str!("../../assets/report/uPlot.iife.min.js");

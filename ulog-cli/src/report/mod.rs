@@ -3,14 +3,18 @@
 mod facts;
 mod flight;
 mod html;
+mod pass;
 mod plots;
 mod spec;
 mod table;
+mod timeline;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::failure::{io_text, stdout_err, Failure};
+use ulog_core::events::EventOptions;
+
+use crate::failure::{io_text, stdout_err, Failure, Status};
 use crate::input;
 
 /// Write a flight report: one HTML file that opens from disk in any browser, with no
@@ -62,22 +66,53 @@ const TRACK_POINTS: usize = 5000;
 /// The most fields per topic plotted for a log without PX4's topics.
 const FIELDS_PER_TOPIC: usize = 8;
 
+/// The report of a log read in passes over the file ([`pass`]): the first keeps the
+/// metadata and counts the rows, the second reads the topics the page draws; a third
+/// (every topic) only for a log whose standard plots turned out empty. The memory is
+/// what the page holds, not the log.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
-    let start = time_origin(&log);
+    let input = pass::Input::open(&args.file)?;
+    let survey = pass::survey(&input, &name)?;
+    let log = survey
+        .metadata
+        .log()
+        .map_err(|e| Failure::new(Status::Refused, &name, input::error_text(&e)))?;
+    let rows = &survey.rows;
+    let start = time_origin(&log, &survey.first);
     let end = log.last_timestamp().max(start);
 
-    let timeline = flight::timeline(&log, start, end);
-    let figures = flight::figures(&log);
-    let (mut plots, missing) = plots::standard(&log, start, end);
+    let mut timeline = timeline::timeline(&log, start);
+    let mut figures = flight::figures(&log);
+    let mut standard = plots::standard(&log, rows, start, end);
+    let mut attitude = flight::attitude(&log, rows, start, end);
+    let mut track = flight::track(&log, rows, TRACK_POINTS);
+    // A log with none of the standard topics has every topic plotted: read in the
+    // same pass.
+    let mut others = (plots::none_found(&standard) && attitude.is_none())
+        .then(|| plots::every_topic(&log, rows, start, end, FIELDS_PER_TOPIC));
+    let mut routes = pass::Routes::new(log.subscriptions().len());
+    timeline.route(&mut routes);
+    figures.route(&mut routes);
+    plots::route(&mut standard, &mut routes);
+    attitude.route(&mut routes);
+    if let Some(t) = &mut track {
+        t.route(&mut routes);
+    }
+    if let Some(o) = &mut others {
+        plots::route_topics(o, &mut routes);
+    }
+    pass::read(&input, &name, &survey, routes)?;
+
+    let timeline = timeline.finish(end);
+    let figures = figures.finish();
+    let (mut plots, missing) = plots::finish_standard(standard);
     // Attitude after altitude, as Flight Review orders them.
     let at = plots
         .iter()
         .position(|p| p.id == "altitude")
         .map_or(0, |i| i + 1);
-    plots.splice(at..at, flight::attitude(&log, start, end));
+    plots.splice(at..at, attitude.finish());
     let mut notes = Vec::new();
     if plots.is_empty() {
         notes.push(
@@ -85,17 +120,29 @@ pub fn run(args: &Args) -> Result<(), Failure> {
              topic, with its first numeric fields."
                 .to_owned(),
         );
-        plots = plots::every_topic(&log, start, end, FIELDS_PER_TOPIC);
+        let others = match others {
+            Some(o) => o,
+            // Standard topics whose values all turned out missing: one more pass.
+            None => {
+                let mut o = plots::every_topic(&log, rows, start, end, FIELDS_PER_TOPIC);
+                let mut routes = pass::Routes::new(log.subscriptions().len());
+                plots::route_topics(&mut o, &mut routes);
+                pass::read(&input, &name, &survey, routes)?;
+                o
+            }
+        };
+        plots = plots::finish_topics(others);
     }
     if timeline.modes.is_empty() {
         notes.push("No flight modes: the log has no vehicle_status.".to_owned());
     }
-    let track = flight::track(&log, TRACK_POINTS);
+    let track = track.and_then(flight::Track::finish);
     let mut marks = timeline.marks;
-    let messages = facts::messages(&log, start);
+    let metadata = &survey.metadata;
+    let messages = facts::messages(&log, || metadata.events(&EventOptions::default()), start);
     for (t, level, text) in &messages {
         if html::severity(level) <= 3 {
-            marks.push(flight::Mark {
+            marks.push(timeline::Mark {
                 t: *t,
                 kind: "error",
                 text: text.clone(),
@@ -104,12 +151,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     marks.sort_by(|a, b| a.t.total_cmp(&b.t));
     let (info, multi) = facts::information(&log);
+    let header = facts::header(
+        &log,
+        metadata.utc(),
+        &survey.summary.findings,
+        start,
+        &figures,
+        timeline.armed_s,
+    );
     let page = html::Page {
         title: args
             .file
             .file_name()
             .map_or_else(|| name.clone(), |n| n.to_string_lossy().into_owned()),
-        header: facts::header(&log, start, &figures, timeline.armed_s),
+        header,
         missing,
         notes,
         params_vs_defaults: facts::params_vs_defaults(&log),
@@ -148,19 +203,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// Time zero of the page: the header's timestamp, or where that is zero (a writer
-/// that does not set it, or a log whose uploader zeroed it) the first data timestamp.
-fn time_origin(log: &ulog_core::ULog<'_>) -> u64 {
+/// that does not set it, or a log whose uploader zeroed it) the first data timestamp
+/// (the lowest of the topics' first rows' timestamps, `first`).
+fn time_origin(log: &ulog_core::ULog<'_>, first: &[Option<u64>]) -> u64 {
     let header = log.start_timestamp();
     if header != 0 {
         return header;
     }
-    log.topics()
-        .filter_map(|t| {
-            let mut clock = ulog_core::read::Unwrapper::new(t.timestamp_field());
-            t.payloads().next().and_then(|p| clock.push(p))
-        })
-        .min()
-        .unwrap_or(0)
+    first.iter().flatten().min().copied().unwrap_or(0)
 }
 
 /// `<FILE without its extension>_report.html`, next to FILE.

@@ -1,10 +1,12 @@
-//! Reading the standard plots' lines ([`super::spec`]) from a log through generic field
-//! access: each group's topic once, its lines thinned as they are read.
+//! Reading the standard plots' lines ([`super::spec`]) of a log through generic field
+//! access: each group's topic found in the metadata, its lines thinned as the second
+//! pass hands its rows ([`super::pass`]).
 
 use serde::Serialize;
 use ulog_core::read::Unwrapper;
 use ulog_core::{FieldReader, Topic, ULog};
 
+use super::pass::{Routes, Rows};
 use super::spec::{Group, PlotSpec, Value, PLOTS};
 use super::table::{Builder, Table};
 
@@ -32,17 +34,73 @@ pub struct Missing {
     pub needs: String,
 }
 
+/// A standard plot being read: per group the log has, its topic and its table.
+pub struct Pending {
+    spec: &'static PlotSpec,
+    groups: Vec<(String, GroupRows)>,
+}
+
+/// The standard plots, to be read: `rows` has each subscription's data messages.
+pub fn standard(log: &ULog<'_>, rows: &[usize], start_us: u64, end_us: u64) -> Vec<Pending> {
+    PLOTS
+        .iter()
+        .map(|spec| Pending {
+            spec,
+            groups: spec
+                .groups
+                .iter()
+                .filter_map(|group| {
+                    let (topic, lines) = find(log, rows, group)?;
+                    let table = GroupRows::new(&topic, rows, lines, start_us, end_us);
+                    Some((topic.name().to_owned(), table))
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// Whether no standard plot has a topic to read.
+pub fn none_found(pending: &[Pending]) -> bool {
+    pending.iter().all(|p| p.groups.is_empty())
+}
+
+/// Has the second pass hand the plots' topics' rows to them.
+pub fn route<'c>(pending: &'c mut [Pending], routes: &mut Routes<'c>) {
+    for (_, table) in pending.iter_mut().flat_map(|p| p.groups.iter_mut()) {
+        routes.add(table.sub, table);
+    }
+}
+
 /// The standard plots the log has data for, and a note for each other one.
-pub fn standard(log: &ULog<'_>, start_us: u64, end_us: u64) -> (Vec<Plot>, Vec<Missing>) {
+pub fn finish_standard(pending: Vec<Pending>) -> (Vec<Plot>, Vec<Missing>) {
     let mut plots = Vec::new();
     let mut missing = Vec::new();
-    for spec in PLOTS {
-        match read_plot(log, spec, start_us, end_us) {
-            Some(p) => plots.push(p),
-            None => missing.push(Missing {
+    for Pending { spec, groups } in pending {
+        let mut plot = Plot {
+            id: spec.id.to_owned(),
+            title: spec.title.to_owned(),
+            unit: spec.unit.to_owned(),
+            sources: Vec::new(),
+            tables: Vec::new(),
+        };
+        for (topic, rows) in groups {
+            let mut table = rows.finish();
+            if spec.drop_zero {
+                table.drop_zero_lines();
+            }
+            if table.labels.is_empty() || table.is_blank() {
+                continue;
+            }
+            plot.sources.push(topic);
+            plot.tables.push(table);
+        }
+        if plot.tables.is_empty() {
+            missing.push(Missing {
                 title: spec.title.to_owned(),
                 needs: needs(spec),
-            }),
+            });
+        } else {
+            plots.push(plot);
         }
     }
     (plots, missing)
@@ -52,31 +110,6 @@ pub fn standard(log: &ULog<'_>, start_us: u64, end_us: u64) -> (Vec<Plot>, Vec<M
 fn needs(spec: &PlotSpec) -> String {
     let groups: Vec<String> = spec.groups.iter().map(|g| g.topics.join(" or ")).collect();
     groups.join(", ")
-}
-
-fn read_plot(log: &ULog<'_>, spec: &PlotSpec, start_us: u64, end_us: u64) -> Option<Plot> {
-    let mut plot = Plot {
-        id: spec.id.to_owned(),
-        title: spec.title.to_owned(),
-        unit: spec.unit.to_owned(),
-        sources: Vec::new(),
-        tables: Vec::new(),
-    };
-    for group in spec.groups {
-        let Some((topic, lines)) = find(log, group) else {
-            continue;
-        };
-        let mut table = read_group(&topic, lines, start_us, end_us);
-        if spec.drop_zero {
-            table.drop_zero_lines();
-        }
-        if table.labels.is_empty() || table.is_blank() {
-            continue;
-        }
-        plot.sources.push(topic.name().to_owned());
-        plot.tables.push(table);
-    }
-    (!plot.tables.is_empty()).then_some(plot)
 }
 
 /// How one line is read from a payload.
@@ -99,13 +132,14 @@ impl Reader {
 /// the lines it has.
 fn find<'l, 'a>(
     log: &'l ULog<'a>,
+    rows: &[usize],
     group: &Group,
 ) -> Option<(Topic<'l, 'a>, Vec<(String, Reader)>)> {
     for name in group.topics {
         let Some(topic) = log.topic_instances(name).first().copied() else {
             continue;
         };
-        if topic.timestamp_field().is_none() || topic.is_empty() {
+        if topic.timestamp_field().is_none() || count(rows, &topic) == 0 {
             continue;
         }
         let lines: Vec<(String, Reader)> = group
@@ -131,35 +165,74 @@ fn find<'l, 'a>(
     None
 }
 
-/// Every row of `topic`, thinned, as the lines' values.
-fn read_group(
-    topic: &Topic<'_, '_>,
-    lines: Vec<(String, Reader)>,
-    start_us: u64,
-    end_us: u64,
-) -> Table {
-    let (labels, readers): (Vec<String>, Vec<Reader>) = lines.into_iter().unzip();
-    let mut builder = Builder::new(labels, topic.len(), start_us, end_us);
-    let mut clock = Unwrapper::new(topic.timestamp_field());
-    let mut row = vec![0f32; readers.len()];
-    for payload in topic.payloads() {
-        let Some(t) = clock.push(payload) else {
-            continue;
+/// The data messages of `topic`, as the first pass counted them.
+fn count(rows: &[usize], topic: &Topic<'_, '_>) -> usize {
+    rows.get(topic.subscription().index()).copied().unwrap_or(0)
+}
+
+/// The rows of one topic as the lines' values, thinned as they come.
+pub struct GroupRows {
+    sub: usize,
+    readers: Vec<Reader>,
+    builder: Builder,
+    clock: Unwrapper,
+    row: Vec<f32>,
+}
+
+impl GroupRows {
+    fn new(
+        topic: &Topic<'_, '_>,
+        rows: &[usize],
+        lines: Vec<(String, Reader)>,
+        start_us: u64,
+        end_us: u64,
+    ) -> GroupRows {
+        let (labels, readers): (Vec<String>, Vec<Reader>) = lines.into_iter().unzip();
+        GroupRows {
+            sub: topic.subscription().index(),
+            builder: Builder::new(labels, count(rows, topic), start_us, end_us),
+            clock: Unwrapper::new(topic.timestamp_field()),
+            row: vec![0f32; readers.len()],
+            readers,
+        }
+    }
+
+    fn finish(self) -> Table {
+        self.builder.finish()
+    }
+}
+
+impl Rows for GroupRows {
+    fn push(&mut self, payload: &[u8]) {
+        let Some(t) = self.clock.push(payload) else {
+            return;
         };
-        for (v, r) in row.iter_mut().zip(&readers) {
+        for (v, r) in self.row.iter_mut().zip(&self.readers) {
             *v = r.read(payload);
         }
-        builder.push(t, &row);
+        self.builder.push(t, &self.row);
     }
-    builder.finish()
+}
+
+/// A plot of one topic of a log without the standard plots' topics, being read.
+pub struct PendingTopic {
+    name: String,
+    id: String,
+    rows: GroupRows,
 }
 
 /// Every topic with its numeric scalar fields (at most `fields` each), for a log that
-/// has none of the standard plots' topics (not PX4's).
-pub fn every_topic(log: &ULog<'_>, start_us: u64, end_us: u64, fields: usize) -> Vec<Plot> {
+/// has none of the standard plots' topics (not PX4's), to be read.
+pub fn every_topic(
+    log: &ULog<'_>,
+    rows: &[usize],
+    start_us: u64,
+    end_us: u64,
+    fields: usize,
+) -> Vec<PendingTopic> {
     let mut plots = Vec::new();
     for topic in log.topics() {
-        if topic.is_empty() || topic.timestamp_field().is_none() {
+        if count(rows, &topic) == 0 || topic.timestamp_field().is_none() {
             continue;
         }
         let Ok(columns) = topic.fields() else {
@@ -179,18 +252,35 @@ pub fn every_topic(log: &ULog<'_>, start_us: u64, end_us: u64, fields: usize) ->
         if lines.is_empty() {
             continue;
         }
-        let name = format!("{}:{}", topic.name(), topic.multi_id());
-        let table = read_group(&topic, lines, start_us, end_us);
-        if table.is_blank() {
-            continue;
-        }
-        plots.push(Plot {
+        plots.push(PendingTopic {
+            name: format!("{}:{}", topic.name(), topic.multi_id()),
             id: format!("topic_{}_{}", topic.name(), topic.multi_id()),
-            title: name.clone(),
-            unit: String::new(),
-            sources: vec![name],
-            tables: vec![table],
+            rows: GroupRows::new(&topic, rows, lines, start_us, end_us),
         });
     }
     plots
+}
+
+/// Has the second pass hand every topic's rows to its plot.
+pub fn route_topics<'c>(pending: &'c mut [PendingTopic], routes: &mut Routes<'c>) {
+    for p in pending {
+        routes.add(p.rows.sub, &mut p.rows);
+    }
+}
+
+/// The plots of every topic with a value.
+pub fn finish_topics(pending: Vec<PendingTopic>) -> Vec<Plot> {
+    pending
+        .into_iter()
+        .filter_map(|p| {
+            let table = p.rows.finish();
+            (!table.is_blank()).then(|| Plot {
+                id: p.id,
+                title: p.name.clone(),
+                unit: String::new(),
+                sources: vec![p.name],
+                tables: vec![table],
+            })
+        })
+        .collect()
 }

@@ -18,12 +18,9 @@ use std::sync::mpsc::{sync_channel, Receiver};
 use std::sync::{Arc, Condvar, Mutex};
 
 use crate::access::lookup::{LookupError, TopicNotFound};
-use crate::bytes::{HEADER_SIZE, MAGIC};
-use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 use crate::log::ulog::ULog;
-use crate::log::utc::{GpsTime, UtcSamples};
-use crate::pass::driver::{Hand, Kept};
+use crate::pass::driver::Hand;
 use crate::pass::source::{drive_keeping, Source};
 
 use super::arrow::TopicTable;
@@ -160,18 +157,8 @@ pub(super) fn export(
     let mut slots: Vec<Slot> = Vec::new();
     // A dataset's files, by topic name (its instances share one).
     let mut files: HashMap<PathBuf, (String, Arc<TopicFile>)> = HashMap::new();
-    // The GPS times, for the dataset's UTC start.
-    let mut gps = UtcSamples::default();
-    let mut gps_times: Vec<Option<GpsTime>> = Vec::new();
-    let mut clocks: Vec<Unwrapper> = Vec::new();
     let mut rows: Vec<usize> = Vec::new();
     let mut skipped = Vec::new();
-    let kept = Kept::default();
-    let clock = kept.clock.clone();
-    let mut last = 0u64;
-    // Rows of the PX4 event topic (instance 0): timestamp and payload.
-    #[cfg_attr(not(feature = "events"), allow(unused_mut, unused_variables))]
-    let mut event_rows: Vec<(u64, Vec<u8>)> = Vec::new();
     let mut buffered = 0usize;
     let budget = options.buffer_bytes.max(1);
     let mut reported = 0u64;
@@ -240,20 +227,15 @@ pub(super) fn export(
                 fail(e);
             }
         };
-        let mut event_topic: Option<usize> = None;
-        let result = drive_keeping(source, true, kept, &mut |r: crate::DataRecord<'_>| {
+        // Everything but the data kept as the pass goes (a log of its own, with the
+        // times, GPS times and events the data gives it).
+        let result = drive_keeping(source, true, &mut |r: crate::DataRecord<'_>| {
             let i = r.topic.index();
             if slots.len() <= i {
                 slots.resize_with(i + 1, || Slot::Unseen);
-                clocks.resize_with(i + 1, || Unwrapper::new(None));
                 rows.resize(i + 1, 0);
-                gps_times.resize(i + 1, None);
             }
             if matches!(slots[i], Slot::Unseen) {
-                clocks[i] = Unwrapper::new(r.topic.timestamp_field());
-                if dataset.is_some() {
-                    gps_times[i] = gps.gps_time(r.topic);
-                }
                 slots[i] = open(
                     r.topic,
                     dir,
@@ -262,26 +244,8 @@ pub(super) fn export(
                     &mut files,
                     &mut skipped,
                 );
-                if cfg!(feature = "events") && r.topic.name() == "event" && r.topic.multi_id() == 0
-                {
-                    event_topic = Some(i);
-                }
             }
             rows[i] += 1;
-            let time = clocks[i].push(r.payload);
-            if let (Some(at), Some(t)) = (gps_times[i], time) {
-                gps.push(at, r.payload, t);
-            }
-            if let Some(t) = time {
-                if t > last {
-                    last = t;
-                    clock.store(t, Ordering::Relaxed);
-                }
-            }
-            // PX4 events, for the metadata (a few hundred small rows).
-            if event_topic == Some(i) {
-                event_rows.push((time.unwrap_or(last), r.payload.to_vec()));
-            }
             if r.offset >= reported + PROGRESS_STEP {
                 reported = r.offset;
                 progress(reported);
@@ -366,7 +330,7 @@ pub(super) fn export(
     };
     let metadata_partial = dir.join(format!("{METADATA_FILE}.partial"));
     let done = (|| {
-        let (summary, kept) = scanned.map_err(ExportError::read)?;
+        let summary = scanned.map_err(ExportError::read)?;
         if let Some(e) = failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
             return Err(e);
         }
@@ -385,29 +349,19 @@ pub(super) fn export(
             }
         }
         // Everything but the data, as a log of its own.
-        let mut bytes = Vec::with_capacity(HEADER_SIZE + kept.bytes.len());
-        bytes.extend_from_slice(&MAGIC);
-        bytes.push(summary.header.version);
-        bytes.extend_from_slice(&summary.header.timestamp.to_le_bytes());
-        bytes.extend_from_slice(&kept.bytes);
-        let mut log = ULog::parse(&bytes).map_err(ExportError::read)?;
-        let start = summary.header.timestamp;
-        let times: Vec<(u64, u64)> = kept
-            .times
-            .iter()
-            .map(|&(at, t)| (at + HEADER_SIZE as u64, t.max(start)))
-            .collect();
-        log.retime(&times);
-
+        let Some(kept) = &summary.metadata else {
+            unreachable!("a keeping pass keeps the metadata")
+        };
+        let log = kept.log().map_err(ExportError::read)?;
         let missing = missing_topics(&log, options)?;
         rows.resize(log.subscriptions().len(), 0);
         #[cfg(feature = "events")]
-        let events = log.topic("event", 0).ok().map(|topic| {
-            let rows = event_rows.iter().map(|(t, p)| (*t, &p[..]));
-            log.decode_events(&topic, &crate::events::EventOptions::default(), rows)
-        });
+        let events = log
+            .topic("event", 0)
+            .ok()
+            .map(|_| kept.events(&crate::events::EventOptions::default()));
         let facts = Facts {
-            last_timestamp: last.max(start),
+            last_timestamp: kept.last_timestamp(),
             findings: &summary.findings,
             rows: &rows[..log.subscriptions().len()],
             #[cfg(feature = "events")]
@@ -415,7 +369,7 @@ pub(super) fn export(
         };
         let tables = match dataset {
             Some(about) => {
-                let utc = std::mem::take(&mut gps).clock(&log);
+                let utc = kept.utc();
                 Some(LogTables::new(&log, &facts, about, utc)?)
             }
             None => {

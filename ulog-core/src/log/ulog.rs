@@ -253,12 +253,13 @@ impl<'a> Builder<'a> {
     }
 }
 
-#[cfg(feature = "parquet")]
 impl ULog<'_> {
     /// Gives each parameter change and dropout at an offset of `times` (sorted by
-    /// offset) the time paired with it: a log kept without its data (the export's)
-    /// has the times of the data from the pass that kept it.
-    pub(crate) fn retime(&mut self, times: &[(u64, u64)]) {
+    /// offset) the time paired with it, and the log the last timestamp `last`: a log
+    /// kept without its data ([`LogMetadata`](crate::read::LogMetadata)) has the
+    /// times of the data from the pass that kept it.
+    pub(crate) fn retime(&mut self, times: &[(u64, u64)], last: u64) {
+        self.last_timestamp = last;
         let at = |offset: u64| {
             times
                 .binary_search_by_key(&offset, |&(o, _)| o)

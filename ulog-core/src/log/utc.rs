@@ -2,11 +2,9 @@
 
 use std::fmt;
 
-#[cfg(feature = "parquet")]
 use ulog_format::{BasicType, LayoutType};
 
 use crate::definitions::timestamp::Unwrapper;
-#[cfg(feature = "parquet")]
 use crate::definitions::Subscription;
 use crate::log::ulog::ULog;
 
@@ -177,7 +175,7 @@ impl ULog<'_> {
     }
 
     /// The clock of information key `boot_time_utc_us`, when it is a plausible time.
-    fn boot_clock(&self) -> Option<UtcClock> {
+    pub(crate) fn boot_clock(&self) -> Option<UtcClock> {
         let boot = self.info_value("boot_time_utc_us")?.as_u64()?;
         PLAUSIBLE_UTC_US
             .contains(&boot)
@@ -218,10 +216,10 @@ fn median_clock(topic: &'static str, mut offsets: Vec<i64>) -> Option<UtcClock> 
     })
 }
 
-#[cfg(feature = "parquet")]
-/// [`ULog::utc`] of a log read in one pass that does not keep its data (the Parquet
-/// export's): the GPS offsets are taken as the rows go by, 8 bytes a row.
-#[derive(Debug, Default)]
+/// [`ULog::utc`] of a log read in one pass that does not keep its data
+/// ([`LogMetadata`](crate::read::LogMetadata)'s): the GPS offsets are taken as the
+/// rows go by, 8 bytes a row.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct UtcSamples {
     /// The offsets of each of [`GPS_TOPICS`], instance 0.
     offsets: [Vec<i64>; 3],
@@ -229,7 +227,6 @@ pub(crate) struct UtcSamples {
     claimed: [bool; 3],
 }
 
-#[cfg(feature = "parquet")]
 /// Where a GPS topic's time is: its rank in [`GPS_TOPICS`] and the offset of its
 /// `uint64_t time_utc_usec` in a payload.
 #[derive(Debug, Clone, Copy)]
@@ -238,7 +235,6 @@ pub(crate) struct GpsTime {
     offset: usize,
 }
 
-#[cfg(feature = "parquet")]
 impl UtcSamples {
     /// Where the GPS time of `sub`'s rows is, if it is one of [`GPS_TOPICS`], instance
     /// 0, and the first subscription of its name met (the rows of a second one are not
@@ -269,13 +265,14 @@ impl UtcSamples {
         }
     }
 
-    /// The clock by [`ULog::utc`]'s rule, `log` being the log without its data.
-    pub(crate) fn clock(self, log: &ULog<'_>) -> Option<UtcClock> {
+    /// The clock by [`ULog::utc`]'s rule, `boot` giving the clock of the log's
+    /// information when no GPS time is there.
+    pub(crate) fn clock(&self, boot: impl FnOnce() -> Option<UtcClock>) -> Option<UtcClock> {
         GPS_TOPICS
             .iter()
-            .zip(self.offsets)
-            .find_map(|(topic, offsets)| median_clock(topic, offsets))
-            .or_else(|| log.boot_clock())
+            .zip(&self.offsets)
+            .find_map(|(topic, offsets)| median_clock(topic, offsets.clone()))
+            .or_else(boot)
     }
 }
 

@@ -8,6 +8,7 @@ use crate::error::ReadError;
 use crate::finding::Finding;
 use crate::framing::{FlagBits, Framer, Header, Record, Step};
 use crate::log::ulog::ULog;
+use crate::pass::keep::LogMetadata;
 
 /// A data message met by a pass: where it is, the topic instance it belongs to, and
 /// its payload (after the msg_id).
@@ -43,6 +44,9 @@ pub struct ScanSummary {
     /// Whether the callback stopped the pass before the end of the log: the summary
     /// then covers what was framed until then.
     pub stopped: bool,
+    /// Everything but the data messages, with what the data says of it, when the
+    /// pass was asked to keep it ([`ScanOptions::keep_metadata`](crate::ScanOptions::keep_metadata)).
+    pub metadata: Option<LogMetadata>,
 }
 
 impl ScanSummary {
@@ -58,6 +62,7 @@ impl ScanSummary {
             topics: log.subscriptions().to_vec(),
             findings: log.findings().to_vec(),
             stopped: false,
+            metadata: None,
         }
     }
 }
@@ -130,51 +135,6 @@ pub(crate) struct Driver {
     /// Subscriptions whose records are no longer handed out.
     skip: Vec<bool>,
     stopped: bool,
-    /// The messages other than data kept as they go by, when asked.
-    pub keep: Option<Kept>,
-}
-
-/// The messages of a log other than data messages, kept by a pass that hands out the
-/// data ([`Driver::keep`]): a log of its own (the header, then each message as it
-/// was, in file order; the flag bits' appended offsets zeroed, the data being gone),
-/// which [`ULog::parse`] reads for everything but the data.
-///
-/// Parameter changes and dropouts take the time of the data before them, which the
-/// kept log lacks: `times` has, for each of them, its offset in `bytes` and what
-/// `clock` (set by whoever reads the data) said when it went by.
-#[derive(Debug, Default)]
-pub(crate) struct Kept {
-    pub bytes: Vec<u8>,
-    pub times: Vec<(u64, u64)>,
-    pub clock: Arc<std::sync::atomic::AtomicU64>,
-}
-
-impl Kept {
-    /// Keeps the message `r` (not a data message), its payload `payload`.
-    #[cold]
-    fn keep(&mut self, r: &Record, payload: &[u8]) {
-        // Flag bits anywhere but first are only a finding of the whole file's: were
-        // the messages before them not kept, they would be read as the kept log's
-        // own (framing accepts no data message before the definitions, so this does
-        // not happen today; the check keeps it so).
-        if r.msg_type == b'B' && r.offset != crate::bytes::HEADER_SIZE as u64 {
-            return;
-        }
-        if matches!(r.msg_type, b'P' | b'O') {
-            let now = self.clock.load(std::sync::atomic::Ordering::Relaxed);
-            self.times.push((self.bytes.len() as u64, now));
-        }
-        let start = self.bytes.len();
-        self.bytes
-            .extend_from_slice(&(payload.len() as u16).to_le_bytes());
-        self.bytes.push(r.msg_type);
-        self.bytes.extend_from_slice(payload);
-        // The appended offsets (after the two 8-byte flag fields) point into the
-        // whole file: the kept log has no appended data.
-        if r.msg_type == b'B' && payload.len() >= 40 {
-            self.bytes[start + 3 + 16..start + 3 + 40].fill(0);
-        }
-    }
 }
 
 /// Hands the data message at `offset` to `f` unless its subscription is skipped, and
@@ -227,7 +187,6 @@ impl Driver {
             data: 0,
             skip: Vec::new(),
             stopped: false,
-            keep: None,
         }
     }
 
@@ -265,9 +224,6 @@ impl Driver {
                         }
                     } else if r.msg_type != b'D' {
                         let payload = r.payload(win, base);
-                        if let Some(keep) = &mut self.keep {
-                            keep.keep(&r, payload);
-                        }
                         if !f.other(&r, payload, &self.framer) {
                             return Ok(self.stop());
                         }
@@ -297,6 +253,7 @@ impl Driver {
             topics: self.framer.defs.take_subscriptions(),
             findings: std::mem::take(&mut self.framer.findings),
             stopped: self.stopped,
+            metadata: None,
         }
     }
 }

@@ -9,7 +9,7 @@ use crate::definitions::timestamp::Unwrapper;
 use crate::error::ReadError;
 use crate::log::ulog::ULog;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
-use crate::pass::source::{Inner, Source};
+use crate::pass::source::{drive_keeping, Inner, Source};
 
 /// The next row of one topic, ordered by its key (timestamp, or the log's time where
 /// it stands), then by file offset.
@@ -26,12 +26,18 @@ struct Cursor {
 /// Hands every data message of `source`'s log to `f` by timestamp (see
 /// [`ScanOrder::Timestamp`](crate::read::ScanOrder::Timestamp)), with the record's
 /// timestamp; a source that is not parsed is parsed first.
-pub(crate) fn time_ordered<F>(source: Source<'_>, f: &mut F) -> Result<ScanSummary, ReadError>
+/// With `keep`, the summary has the log's metadata, kept by a second framing of the
+/// parsed log's bytes.
+pub(crate) fn time_ordered<F>(
+    source: Source<'_>,
+    keep: bool,
+    f: &mut F,
+) -> Result<ScanSummary, ReadError>
 where
     F: FnMut(DataRecord<'_>, Option<u64>) -> Hand,
 {
     if let Inner::Parsed(log) = source.inner {
-        return Ok(walk(log, f));
+        return walk_keeping(log, keep, f);
     }
     let path = source.inner.path().map(|p| p.to_owned());
     let bytes = source.inner.read_all()?;
@@ -39,7 +45,22 @@ where
         Some(p) => e.in_file(p),
         None => e,
     })?;
-    Ok(walk(&log, f))
+    walk_keeping(&log, keep, f)
+}
+
+/// [`walk`], and with `keep` the metadata of `log` in the summary.
+fn walk_keeping<F>(log: &ULog<'_>, keep: bool, f: &mut F) -> Result<ScanSummary, ReadError>
+where
+    F: FnMut(DataRecord<'_>, Option<u64>) -> Hand,
+{
+    let mut summary = walk(log, f);
+    if keep {
+        let kept = drive_keeping(Source::from(log), false, &mut |_: DataRecord<'_>| {
+            Hand::Next
+        })?;
+        summary.metadata = kept.metadata;
+    }
+    Ok(summary)
 }
 
 fn walk<F>(log: &ULog<'_>, f: &mut F) -> ScanSummary

@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
 use crate::pass::order::time_ordered;
-use crate::pass::source::{drive, Source};
+use crate::pass::source::{drive, drive_keeping, Source};
 
 /// The order a pass hands records out in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -49,6 +49,7 @@ pub struct ScanOptions {
     pub(crate) order: ScanOrder,
     pub(crate) raw_others: bool,
     pub(crate) threads: usize,
+    pub(crate) keep_metadata: bool,
 }
 
 impl Default for ScanOptions {
@@ -58,6 +59,7 @@ impl Default for ScanOptions {
             order: ScanOrder::File,
             raw_others: false,
             threads: 1,
+            keep_metadata: false,
         }
     }
 }
@@ -83,6 +85,20 @@ impl ScanOptions {
     /// (default: leave them out, which is faster: they are framed, not handed out).
     pub fn raw_others(mut self, on: bool) -> ScanOptions {
         self.raw_others = on;
+        self
+    }
+
+    /// [`scan`](crate::scan), [`scan_topics`](crate::scan_topics): also keep
+    /// everything but the data messages, with what the data says of it (parameter
+    /// changes' times, the last timestamp, the UTC time, the events), in
+    /// [`ScanSummary::metadata`](crate::ScanSummary::metadata) (default: keep
+    /// nothing). The memory is that of the metadata (the log's messages other than
+    /// data, its GPS times and events), whatever the size of the log; see
+    /// [`LogMetadata`](crate::read::LogMetadata). Every data message is then read for
+    /// its timestamp, those of topics a pass leaves out too. In timestamp order the
+    /// log is parsed anyway: its metadata is then taken from the parsed log.
+    pub fn keep_metadata(mut self, on: bool) -> ScanOptions {
+        self.keep_metadata = on;
         self
     }
 
@@ -160,11 +176,23 @@ where
     // `f` called from each order's own closure (one closure shared by both kept it
     // out of line).
     match options.order {
+        ScanOrder::File if options.keep_metadata => {
+            // Through a trait object: `f` keeps one direct call site, the plain
+            // file-order loop's.
+            let f: &mut dyn FnMut(DataRecord<'_>) -> R = &mut f;
+            drive_keeping(source.into(), options.read_ahead, &mut |r: DataRecord<
+                '_,
+            >| {
+                Hand::go_on(f(r).go_on())
+            })
+        }
         ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r: DataRecord<
             '_,
         >| {
             Hand::go_on(f(r).go_on())
         }),
-        ScanOrder::Timestamp => time_ordered(source.into(), &mut |r, _| Hand::go_on(f(r).go_on())),
+        ScanOrder::Timestamp => time_ordered(source.into(), options.keep_metadata, &mut |r, _| {
+            Hand::go_on(f(r).go_on())
+        }),
     }
 }

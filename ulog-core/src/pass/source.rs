@@ -11,6 +11,7 @@ use crate::error::ReadError;
 use crate::log::file::LogFile;
 use crate::log::ulog::ULog;
 use crate::pass::driver::{Driver, Ran, ScanSummary, Visit};
+use crate::pass::keep::Keeper;
 
 /// Where a pass ([`scan`](crate::scan), [`scan_topics`](crate::scan_topics),
 /// [`load_columns`](crate::load_columns)) reads a log from.
@@ -216,23 +217,22 @@ where
     Ok(driver.summary())
 }
 
-/// [`drive`], keeping the messages other than data in `kept` as they go by (see
-/// [`Kept`](crate::pass::driver::Kept)).
-#[cfg(feature = "parquet")]
+/// [`drive`], keeping the log's metadata as it goes by (see
+/// [`LogMetadata`](crate::read::LogMetadata)) in the summary.
 pub(crate) fn drive_keeping<F>(
     source: Source<'_>,
     read_ahead: bool,
-    kept: crate::pass::driver::Kept,
     f: &mut F,
-) -> Result<(ScanSummary, crate::pass::driver::Kept), ReadError>
+) -> Result<ScanSummary, ReadError>
 where
     F: Visit + ?Sized,
 {
     let mut driver = Driver::new();
-    driver.keep = Some(kept);
-    drive_with(source, read_ahead, &mut driver, f)?;
-    let kept = driver.keep.take().unwrap_or_default();
-    Ok((driver.summary(), kept))
+    let mut keeper = Keeper::new(f);
+    drive_with(source, read_ahead, &mut driver, &mut keeper)?;
+    let mut summary = driver.summary();
+    summary.metadata = Some(keeper.finish(summary.header));
+    Ok(summary)
 }
 
 fn drive_with<F>(

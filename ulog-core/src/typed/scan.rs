@@ -7,7 +7,7 @@ use crate::error::ReadError;
 use crate::pass::driver::{DataRecord, Hand, ScanSummary};
 use crate::pass::order::time_ordered;
 use crate::pass::scan::{ScanFlow, ScanOptions, ScanOrder};
-use crate::pass::source::{drive, Source};
+use crate::pass::source::{drive, drive_keeping, Source};
 
 use super::error::TypedError;
 use super::plans::Plans;
@@ -90,6 +90,16 @@ where
     let mut plans = Plans::<E>::new();
     let raw_others = options.raw_others;
     match options.order {
+        ScanOrder::File if options.keep_metadata => {
+            // Through a trait object, as below: the plain file-order loop keeps the
+            // one direct call site of `f`.
+            let f: &mut dyn Handler<E, R> = &mut f;
+            drive_keeping(source.into(), options.read_ahead, &mut |r: DataRecord<
+                '_,
+            >| {
+                hand(&mut plans, raw_others, f, &r, |u| u.push(r.payload))
+            })
+        }
         ScanOrder::File => {
             drive(source.into(), options.read_ahead, &mut |r: DataRecord<
                 '_,
@@ -102,7 +112,7 @@ where
             // Through a trait object: `f` keeps one direct call site (the file-order
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
-            time_ordered(source.into(), &mut |r, t| {
+            time_ordered(source.into(), options.keep_metadata, &mut |r, t| {
                 hand(&mut plans, raw_others, f, &r, |_| t)
             })
         }

@@ -1,0 +1,162 @@
+//! The report's passes over a log: the first keeps everything but the data (the
+//! metadata) and counts each subscription's rows; the second hands each data message
+//! to what reads its subscription ([`Routes`]). A file is read in chunks, so the
+//! memory is what the page holds, not the log.
+
+use std::path::Path;
+
+use ulog_core::read::{LogMetadata, ReadErrorKind, Unwrapper};
+use ulog_core::{LogFile, ReadError, ScanOptions, ScanSummary, Source};
+
+use crate::failure::{Failure, Status};
+use crate::input;
+
+/// Where the log is read from, once per pass.
+pub enum Input {
+    /// A regular file: read again for each pass.
+    File(std::path::PathBuf),
+    /// Anything else (a pipe): read once into memory, since it cannot be read twice.
+    Read(LogFile),
+}
+
+impl Input {
+    /// The log at `path`; a missing, unreadable or directory path is a failure.
+    pub fn open(path: &Path) -> Result<Input, Failure> {
+        input::not_a_directory(path)?;
+        let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+        if regular {
+            Ok(Input::File(path.to_owned()))
+        } else {
+            input::open(path).map(Input::Read)
+        }
+    }
+
+    fn source(&self) -> Source<'_> {
+        match self {
+            Input::File(path) => Source::file(path),
+            Input::Read(file) => Source::from(file),
+        }
+    }
+}
+
+/// What the first pass found.
+pub struct Survey {
+    /// What framing saw (findings, counts).
+    pub summary: ScanSummary,
+    /// Everything but the data.
+    pub metadata: LogMetadata,
+    /// Per subscription, its data messages.
+    pub rows: Vec<usize>,
+    /// Per subscription, the timestamp of its first data message, when it has one.
+    pub first: Vec<Option<u64>>,
+}
+
+/// Reads the next chunk while one is framed (a few MiB).
+fn options() -> ScanOptions {
+    ScanOptions::default().read_ahead(true)
+}
+
+/// The first pass: metadata, rows and first timestamps.
+pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
+    let mut rows: Vec<usize> = Vec::new();
+    let mut first: Vec<Option<u64>> = Vec::new();
+    let keep = options().keep_metadata(true);
+    let mut summary = ulog_core::scan(input.source(), &keep, |r| {
+        let i = r.topic.index();
+        if rows.len() <= i {
+            rows.resize(i + 1, 0);
+            first.resize(i + 1, None);
+        }
+        if rows[i] == 0 {
+            first[i] = Unwrapper::new(r.topic.timestamp_field()).push(r.payload);
+        }
+        rows[i] += 1;
+    })
+    .map_err(|e| failure(input, name, &e))?;
+    rows.resize(summary.topics.len(), 0);
+    first.resize(summary.topics.len(), None);
+    let Some(metadata) = summary.metadata.take() else {
+        unreachable!("a pass asked to keep the metadata keeps it")
+    };
+    Ok(Survey {
+        summary,
+        metadata,
+        rows,
+        first,
+    })
+}
+
+/// What reads the data messages of a subscription in the second pass.
+pub trait Rows {
+    /// The payload (after the msg_id) of the subscription's next data message.
+    fn push(&mut self, payload: &[u8]);
+}
+
+/// Per subscription (its index), what reads its data messages.
+pub struct Routes<'c> {
+    by_sub: Vec<Vec<&'c mut dyn Rows>>,
+}
+
+impl<'c> Routes<'c> {
+    /// No routes yet, for a log of `subscriptions` subscriptions.
+    pub fn new(subscriptions: usize) -> Routes<'c> {
+        Routes {
+            by_sub: (0..subscriptions).map(|_| Vec::new()).collect(),
+        }
+    }
+
+    /// Hands the data messages of subscription `sub` to `rows` too.
+    pub fn add(&mut self, sub: usize, rows: &'c mut dyn Rows) {
+        if let Some(readers) = self.by_sub.get_mut(sub) {
+            readers.push(rows);
+        }
+    }
+}
+
+/// A second pass: each data message to what reads its subscription. The log must be
+/// the one the first pass (`survey`) read: one that changed meanwhile is a failure.
+pub fn read(
+    input: &Input,
+    name: &str,
+    survey: &Survey,
+    mut routes: Routes<'_>,
+) -> Result<(), Failure> {
+    if routes.by_sub.iter().all(Vec::is_empty) {
+        return Ok(());
+    }
+    let summary = ulog_core::scan(input.source(), &options(), |r| {
+        // Subscriptions the first pass did not see (the file grew) have no routes.
+        if let Some(readers) = routes.by_sub.get_mut(r.topic.index()) {
+            for rows in readers {
+                rows.push(r.payload);
+            }
+        }
+    })
+    .map_err(|e| failure(input, name, &e))?;
+    let seen = |s: &ScanSummary| {
+        (
+            s.messages,
+            s.data_messages,
+            s.topics.len(),
+            s.findings.clone(),
+        )
+    };
+    if seen(&summary) != seen(&survey.summary) {
+        return Err(Failure::about(
+            name,
+            "the file changed while it was read (two passes over it framed different logs)",
+        ));
+    }
+    Ok(())
+}
+
+/// The failure of a pass, as reading the whole file and parsing it gave it: a read
+/// that fails is about the file, a log that is not one (or is refused) about `name`.
+fn failure(input: &Input, name: &str, e: &ReadError) -> Failure {
+    match (input, e.kind()) {
+        (Input::File(path), ReadErrorKind::Io(_)) => {
+            Failure::unreadable(path.display(), input::error_text(e))
+        }
+        _ => Failure::new(Status::Refused, name, input::error_text(e)),
+    }
+}

@@ -1,0 +1,317 @@
+//! [`LogMetadata`]: what a pass ([`ScanOptions::keep_metadata`]) keeps of a log
+//! besides the data it hands out, so that one pass over a large file gives what
+//! [`ULog::parse`] gives of it but the data messages, with memory for the metadata
+//! only.
+//!
+//! [`ScanOptions::keep_metadata`]: crate::ScanOptions::keep_metadata
+
+use crate::bytes::{HEADER_SIZE, MAGIC};
+use crate::definitions::timestamp::Unwrapper;
+use crate::error::ReadError;
+use crate::framing::{Framer, Header, Record};
+use crate::log::ulog::ULog;
+use crate::log::utc::{GpsTime, UtcClock, UtcSamples};
+use crate::pass::driver::{DataRecord, Hand, Visit};
+
+/// Everything a log holds but its data messages, kept by a pass with
+/// [`ScanOptions::keep_metadata`](crate::ScanOptions::keep_metadata) (in
+/// [`ScanSummary::metadata`](crate::ScanSummary::metadata)): the header, flag bits,
+/// formats, subscriptions, information, parameters and their changes, default
+/// parameters, logged strings and dropouts, as a small log of their own that
+/// [`LogMetadata::log`] parses; and what [`ULog`] takes from the data for them, taken
+/// as the data went by: the time of each parameter change and dropout (the highest
+/// data timestamp before it), the [`last timestamp`](ULog::last_timestamp), the GPS
+/// times of [`ULog::utc`] and the rows of the `event` topic.
+///
+/// ```
+/// # let bytes = ulog_core::testing::sample_log();
+/// use ulog_core::{ScanOptions, Source};
+///
+/// // One pass: the data as it goes by, the rest kept (here from a reader, read in
+/// // chunks, as `Source::file` reads a file).
+/// let keep = ScanOptions::default().keep_metadata(true);
+/// let mut rows = 0;
+/// let summary = ulog_core::scan(Source::reader(&bytes[..]), &keep, |_| rows += 1)?;
+/// let metadata = summary.metadata.expect("kept when asked");
+/// let kept = metadata.log()?;
+///
+/// let whole = ulog_core::ULog::parse(&bytes)?;
+/// assert_eq!(kept.info(), whole.info());
+/// assert_eq!(kept.initial_params(), whole.initial_params());
+/// assert_eq!(kept.last_timestamp(), whole.last_timestamp());
+/// assert_eq!(metadata.utc(), whole.utc());
+/// assert_eq!(rows, summary.data_messages);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LogMetadata {
+    /// The kept log: the file header, then each message but data messages as it was,
+    /// in file order (the flag bits' appended offsets zeroed, the data being gone).
+    bytes: Vec<u8>,
+    /// For each parameter change and dropout: its offset in `bytes` and the highest
+    /// data timestamp before it (not below the header's).
+    times: Vec<(u64, u64)>,
+    last_timestamp: u64,
+    utc: UtcSamples,
+    /// The rows of the `event` topic (instance 0): timestamp and payload.
+    #[cfg(feature = "events")]
+    events: Vec<(u64, Vec<u8>)>,
+}
+
+impl LogMetadata {
+    /// The log without its data messages, as [`ULog::parse`] reads it, but that
+    /// parameter changes and dropouts have their times in the whole log, and
+    /// [`ULog::last_timestamp`] is the whole log's. Its topics have no rows.
+    ///
+    /// Errors: none for metadata a pass kept (the pass refused what parsing would);
+    /// a `Result` all the same, as parsing's.
+    pub fn log(&self) -> Result<ULog<'_>, ReadError> {
+        let mut log = ULog::parse(&self.bytes)?;
+        log.retime(&self.times, self.last_timestamp);
+        Ok(log)
+    }
+
+    /// The largest data timestamp of the log (the header's when none is larger):
+    /// [`ULog::last_timestamp`] of the whole log.
+    pub fn last_timestamp(&self) -> u64 {
+        self.last_timestamp
+    }
+
+    /// [`ULog::utc`] of the whole log: from the GPS times kept as the data went by,
+    /// else from information key `boot_time_utc_us`.
+    pub fn utc(&self) -> Option<UtcClock> {
+        self.utc
+            .clock(|| self.log().ok().and_then(|log| log.boot_clock()))
+    }
+
+    /// [`ULog::events`] of the whole log: the rows of its `event` topic (instance 0),
+    /// kept as they went by, decoded.
+    #[cfg(feature = "events")]
+    pub fn events(&self, options: &crate::events::EventOptions) -> crate::events::Events {
+        let Ok(log) = self.log() else {
+            return crate::events::Events::default();
+        };
+        let Ok(topic) = log.topic("event", 0) else {
+            return crate::events::Events::default();
+        };
+        let rows = self.events.iter().map(|(t, p)| (*t, &p[..]));
+        log.decode_events(&topic, options, rows)
+    }
+}
+
+/// What the keeping pass follows of one subscription.
+struct Sub {
+    clock: Unwrapper,
+    gps: Option<GpsTime>,
+    #[cfg(feature = "events")]
+    event: bool,
+}
+
+/// A visitor that keeps a log's metadata ([`LogMetadata`]) as the pass goes, and
+/// hands every data record on to `inner`.
+pub(crate) struct Keeper<'v, V: ?Sized> {
+    inner: &'v mut V,
+    bytes: Vec<u8>,
+    times: Vec<(u64, u64)>,
+    /// The highest data timestamp so far: the time of a parameter change or dropout
+    /// met now, by [`ULog::parse`]'s rule.
+    clock: u64,
+    subs: Vec<Sub>,
+    /// Subscriptions whose records `inner` wants no more: still read here (their
+    /// timestamps count), not handed on.
+    skip: Vec<bool>,
+    utc: UtcSamples,
+    #[cfg(feature = "events")]
+    events: Vec<(u64, Vec<u8>)>,
+}
+
+impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
+    pub fn new(inner: &'v mut V) -> Keeper<'v, V> {
+        Keeper {
+            inner,
+            // The header, filled in at the end.
+            bytes: vec![0; HEADER_SIZE],
+            times: Vec::new(),
+            clock: 0,
+            subs: Vec::new(),
+            skip: Vec::new(),
+            utc: UtcSamples::default(),
+            #[cfg(feature = "events")]
+            events: Vec::new(),
+        }
+    }
+
+    /// The metadata of the log whose header is `header`.
+    pub fn finish(self, header: Header) -> LogMetadata {
+        let mut bytes = self.bytes;
+        bytes[..MAGIC.len()].copy_from_slice(&MAGIC);
+        bytes[MAGIC.len()] = header.version;
+        bytes[MAGIC.len() + 1..HEADER_SIZE].copy_from_slice(&header.timestamp.to_le_bytes());
+        let start = header.timestamp;
+        LogMetadata {
+            bytes,
+            times: self
+                .times
+                .into_iter()
+                .map(|(at, t)| (at, t.max(start)))
+                .collect(),
+            last_timestamp: self.clock.max(start),
+            utc: self.utc,
+            #[cfg(feature = "events")]
+            events: self.events,
+        }
+    }
+
+    /// Follows the subscriptions framing has made since the last call, in their
+    /// order: the first of a GPS topic's or of `event` at instance 0 is the one
+    /// [`ULog::topic`] finds.
+    #[cold]
+    fn subscribed(&mut self, framer: &Framer) {
+        for sub in &framer.defs.subscriptions()[self.subs.len()..] {
+            let first = sub.multi_id() == 0
+                && !framer.defs.subscriptions()[..sub.index()]
+                    .iter()
+                    .any(|s| s.multi_id() == 0 && s.name() == sub.name());
+            self.subs.push(Sub {
+                clock: Unwrapper::new(sub.timestamp_field()),
+                gps: if first { self.utc.gps_time(sub) } else { None },
+                #[cfg(feature = "events")]
+                event: first && sub.name() == "event",
+            });
+        }
+    }
+
+    /// Keeps the message `r` (not a data message), its payload `payload`.
+    #[cold]
+    fn keep(&mut self, r: &Record, payload: &[u8]) {
+        // Flag bits anywhere but first are only a finding of the whole file's: were
+        // the messages before them not kept, they would be read as the kept log's
+        // own (framing accepts no data message before the definitions, so this does
+        // not happen today; the check keeps it so).
+        if r.msg_type == b'B' && r.offset != HEADER_SIZE as u64 {
+            return;
+        }
+        if matches!(r.msg_type, b'P' | b'O') {
+            self.times.push((self.bytes.len() as u64, self.clock));
+        }
+        let start = self.bytes.len();
+        self.bytes
+            .extend_from_slice(&(payload.len() as u16).to_le_bytes());
+        self.bytes.push(r.msg_type);
+        self.bytes.extend_from_slice(payload);
+        // The appended offsets (after the two 8-byte flag fields) point into the
+        // whole file: the kept log has no appended data.
+        if r.msg_type == b'B' && payload.len() >= 40 {
+            self.bytes[start + 3 + 16..start + 3 + 40].fill(0);
+        }
+    }
+}
+
+impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
+    #[inline(always)]
+    fn data(&mut self, record: DataRecord<'_>) -> Hand {
+        let i = record.topic.index();
+        // Framing makes a subscription at its `A` message, which `other` saw.
+        if let Some(sub) = self.subs.get_mut(i) {
+            let time = sub.clock.push(record.payload);
+            if let Some(t) = time {
+                self.clock = self.clock.max(t);
+                if let Some(at) = sub.gps {
+                    self.utc.push(at, record.payload, t);
+                }
+            }
+            // PX4 events: a few hundred small rows (time 0 where the topic has no
+            // timestamp, as `ULog::events` gives it).
+            #[cfg(feature = "events")]
+            if sub.event {
+                let t = time.unwrap_or(0);
+                self.events.push((t, record.payload.to_vec()));
+            }
+        }
+        if self.skip.get(i) == Some(&true) {
+            return Hand::Next;
+        }
+        match self.inner.data(record) {
+            Hand::SkipTopic => {
+                if self.skip.len() <= i {
+                    self.skip.resize(i + 1, false);
+                }
+                self.skip[i] = true;
+                Hand::Next
+            }
+            hand => hand,
+        }
+    }
+
+    #[inline(always)]
+    fn other(&mut self, record: &Record, payload: &[u8], framer: &Framer) -> bool {
+        self.keep(record, payload);
+        if self.subs.len() < framer.defs.subscriptions().len() {
+            self.subscribed(framer);
+        }
+        self.inner.other(record, payload, framer)
+    }
+
+    fn end(&mut self, framer: &Framer) {
+        self.inner.end(framer);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::pass::scan::{scan, ScanOptions};
+    use crate::testing::LogBuilder;
+    use crate::ULog;
+
+    /// Parameter changes and dropouts take the highest data timestamp before them
+    /// (not the last one: rows may go back in time), and never one below the
+    /// header's, as in the whole-file parse; a narrow (v0) timestamp that wraps is
+    /// unwrapped.
+    #[test]
+    fn times_are_the_whole_parses() {
+        let mut b = LogBuilder::new(1, 7_000);
+        b.info_str("sys_name", "PX4");
+        b.param("int32_t A", &1i32.to_le_bytes());
+        b.format("t:uint64_t timestamp;uint8_t x;");
+        b.format("n:uint16_t timestamp;uint8_t x;");
+        b.subscribe(0, 0, "t").subscribe(0, 1, "n");
+        b.param("int32_t A", &2i32.to_le_bytes());
+        let wide = |t: u64| [&t.to_le_bytes()[..], &[1]].concat();
+        let narrow = |t: u16| [&t.to_le_bytes()[..], &[1]].concat();
+        b.data(0, &wide(5_000));
+        b.dropout(30);
+        b.data(0, &wide(9_000)).data(0, &wide(8_000));
+        b.param("int32_t A", &3i32.to_le_bytes());
+        b.data(1, &narrow(65_000)).data(1, &narrow(10));
+        b.dropout(40).log(b'3', 9_500, "late");
+        b.param("int32_t A", &4i32.to_le_bytes());
+        let bytes = b.into_bytes();
+        let whole = ULog::parse(&bytes).unwrap();
+        let keep = ScanOptions::default().keep_metadata(true);
+        let summary = scan(&bytes, &keep, |_| {}).unwrap();
+        let kept = summary.metadata.unwrap();
+        let log = kept.log().unwrap();
+        let changes = |l: &ULog<'_>| -> Vec<(u64, String)> {
+            l.param_changes()
+                .iter()
+                .map(|c| (c.timestamp, format!("{:?}", c.kv.value())))
+                .collect()
+        };
+        assert_eq!(changes(&log), changes(&whole));
+        assert_eq!(
+            changes(&log).iter().map(|c| c.0).collect::<Vec<_>>(),
+            [7_000, 9_000, 65_546]
+        );
+        let dropouts = |l: &ULog<'_>| -> Vec<(u64, u16)> {
+            l.dropouts()
+                .iter()
+                .map(|d| (d.timestamp, d.duration_ms))
+                .collect()
+        };
+        assert_eq!(dropouts(&log), [(7_000, 30), (65_546, 40)]);
+        assert_eq!(dropouts(&log), dropouts(&whole));
+        assert_eq!(log.logged_messages().len(), 1);
+        assert_eq!(kept.last_timestamp(), whole.last_timestamp());
+        assert_eq!(log.last_timestamp(), 65_546);
+    }
+}
