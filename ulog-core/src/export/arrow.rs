@@ -327,10 +327,25 @@ impl TopicTable {
         self.needed
     }
 
-    /// Column `i` of the rows `payloads`, each at least [`TopicTable::needed`] bytes.
-    pub(crate) fn column(&self, i: usize, payloads: &[&[u8]]) -> Result<ArrayRef> {
-        let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();
-        build(&self.columns[i], self.schema.field(i).data_type(), &bases)
+    /// Column `i` of the rows laid end to end in `rows`, `stride` bytes each (at least
+    /// [`TopicTable::needed`]). A value read straight from the rows at its stride (a
+    /// flattened column, or a top-level field); nested columns from `bases`, the
+    /// rows as payloads, made once for all the columns of the rows.
+    pub(crate) fn column_of_rows<'r>(
+        &self,
+        i: usize,
+        rows: &'r [u8],
+        stride: usize,
+        bases: &mut Vec<(&'r [u8], usize)>,
+    ) -> Result<ArrayRef> {
+        if let Node::Value { ty, offset } = self.columns[i] {
+            let len = rows.len() / stride;
+            return Ok(values(ty, len, |j| &rows[j * stride + offset..]));
+        }
+        if bases.is_empty() {
+            bases.extend(rows.chunks_exact(stride).map(|p| (p, 0)));
+        }
+        build(&self.columns[i], self.schema.field(i).data_type(), bases)
     }
 
     /// The record batch of `payloads` (rows of the topic, in order); `offset` gives the
@@ -370,7 +385,10 @@ impl TopicTable {
 /// value in it). The payloads were checked to be long enough.
 fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRef> {
     Ok(match node {
-        Node::Value { ty, offset } => values(*ty, *offset, bases),
+        Node::Value { ty, offset } => values(*ty, bases.len(), |j| {
+            let (p, b) = bases[j];
+            &p[b + offset..]
+        }),
         Node::Text { offset, len } => {
             let mut text = String::new();
             let mut strings = StringBuilder::with_capacity(bases.len(), bases.len() * len);
@@ -431,38 +449,35 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
     })
 }
 
-fn primitive<T: ArrowPrimitiveType, const N: usize>(
-    offset: usize,
-    bases: &[(&[u8], usize)],
+/// `len` values, value `j` at the start of `at(j)`.
+fn primitive<'a, T: ArrowPrimitiveType, const N: usize>(
+    len: usize,
+    at: impl Fn(usize) -> &'a [u8],
     from: fn([u8; N]) -> T::Native,
 ) -> ArrayRef {
-    Arc::new(PrimitiveArray::<T>::from_iter_values(bases.iter().map(
-        |&(p, b)| {
-            let mut a = [0u8; N];
-            a.copy_from_slice(&p[b + offset..b + offset + N]);
-            from(a)
-        },
-    )))
+    Arc::new(PrimitiveArray::<T>::from_iter_values((0..len).map(|j| {
+        let mut a = [0u8; N];
+        a.copy_from_slice(&at(j)[..N]);
+        from(a)
+    })))
 }
 
-fn values(ty: BasicType, offset: usize, bases: &[(&[u8], usize)]) -> ArrayRef {
+/// `len` values of type `ty`, value `j` at the start of `at(j)`.
+fn values<'a>(ty: BasicType, len: usize, at: impl Fn(usize) -> &'a [u8]) -> ArrayRef {
     match ty {
-        BasicType::Int8 => primitive::<Int8Type, 1>(offset, bases, i8::from_le_bytes),
-        BasicType::UInt8 | BasicType::Char => {
-            primitive::<UInt8Type, 1>(offset, bases, u8::from_le_bytes)
-        }
-        BasicType::Int16 => primitive::<Int16Type, 2>(offset, bases, i16::from_le_bytes),
-        BasicType::UInt16 => primitive::<UInt16Type, 2>(offset, bases, u16::from_le_bytes),
-        BasicType::Int32 => primitive::<Int32Type, 4>(offset, bases, i32::from_le_bytes),
-        BasicType::UInt32 => primitive::<UInt32Type, 4>(offset, bases, u32::from_le_bytes),
-        BasicType::Int64 => primitive::<Int64Type, 8>(offset, bases, i64::from_le_bytes),
-        BasicType::UInt64 => primitive::<UInt64Type, 8>(offset, bases, u64::from_le_bytes),
-        BasicType::Float => primitive::<Float32Type, 4>(offset, bases, f32::from_le_bytes),
-        BasicType::Double => primitive::<Float64Type, 8>(offset, bases, f64::from_le_bytes),
+        BasicType::Int8 => primitive::<Int8Type, 1>(len, at, i8::from_le_bytes),
+        BasicType::UInt8 | BasicType::Char => primitive::<UInt8Type, 1>(len, at, u8::from_le_bytes),
+        BasicType::Int16 => primitive::<Int16Type, 2>(len, at, i16::from_le_bytes),
+        BasicType::UInt16 => primitive::<UInt16Type, 2>(len, at, u16::from_le_bytes),
+        BasicType::Int32 => primitive::<Int32Type, 4>(len, at, i32::from_le_bytes),
+        BasicType::UInt32 => primitive::<UInt32Type, 4>(len, at, u32::from_le_bytes),
+        BasicType::Int64 => primitive::<Int64Type, 8>(len, at, i64::from_le_bytes),
+        BasicType::UInt64 => primitive::<UInt64Type, 8>(len, at, u64::from_le_bytes),
+        BasicType::Float => primitive::<Float32Type, 4>(len, at, f32::from_le_bytes),
+        BasicType::Double => primitive::<Float64Type, 8>(len, at, f64::from_le_bytes),
         BasicType::Bool => Arc::new(
-            bases
-                .iter()
-                .map(|&(p, b)| Some(p[b + offset] != 0))
+            (0..len)
+                .map(|j| Some(at(j)[0] != 0))
                 .collect::<BooleanArray>(),
         ),
     }

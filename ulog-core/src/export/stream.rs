@@ -546,7 +546,7 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
         number,
         rows,
     } = group;
-    let payloads: Vec<&[u8]> = rows.chunks_exact(table.needed().max(1)).collect();
+    let stride = table.needed().max(1);
     let mut turn = Turn::wait(&file, number);
     let writer = match &mut turn.state.writer {
         Some(w) => w,
@@ -559,10 +559,11 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
         }
     };
     // The rows were cut to the bytes the columns need: none is short.
+    let mut bases = Vec::new();
     writer
-        .write_columns(payloads.len(), |i| {
+        .write_columns(rows.len() / stride, |i| {
             table
-                .column(i, &payloads)
+                .column_of_rows(i, &rows, stride, &mut bases)
                 .map_err(|e| parquet::errors::ParquetError::External(Box::new(e)))
         })
         .map_err(|e| write_error(&file.shown, e))?;
