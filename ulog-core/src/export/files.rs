@@ -234,8 +234,8 @@ pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterPropert
     // interning values into dictionaries that are then given up was 12% of a
     // one-thread export's time (perf, events×200, flattened). On the two ≈300 MB logs
     // (zstd, flattened): 0.83x the time (log_61), files 9% smaller (events) and 5%
-    // larger (log_61). Times neither (`timestamp` and the relative times beside it, `…timestamp…` fields): each is another microsecond (files 7% smaller on
-    // log_61 ×90).
+    // larger (log_61). Times neither (`timestamp` and the relative times beside it):
+    // each is another microsecond (files 7% smaller on log_61 ×90).
     //
     // Nor minimum and maximum statistics for floats: the writer compares every value
     // (NaN-aware, through the column's logical type), which was 13% of the export's
