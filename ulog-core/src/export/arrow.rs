@@ -340,7 +340,11 @@ impl TopicTable {
     ) -> Result<ArrayRef> {
         if let Node::Value { ty, offset } = self.columns[i] {
             let len = rows.len() / stride;
-            return Ok(values(ty, len, |j| &rows[j * stride + offset..]));
+            return Ok(values(
+                ty,
+                len,
+                rows.chunks_exact(stride).map(|r| &r[offset..]),
+            ));
         }
         if bases.is_empty() {
             bases.extend(rows.chunks_exact(stride).map(|p| (p, 0)));
@@ -385,10 +389,11 @@ impl TopicTable {
 /// value in it). The payloads were checked to be long enough.
 fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRef> {
     Ok(match node {
-        Node::Value { ty, offset } => values(*ty, bases.len(), |j| {
-            let (p, b) = bases[j];
-            &p[b + offset..]
-        }),
+        Node::Value { ty, offset } => values(
+            *ty,
+            bases.len(),
+            bases.iter().map(|&(p, b)| &p[b + offset..]),
+        ),
         Node::Text { offset, len } => {
             let mut text = String::new();
             let mut strings = StringBuilder::with_capacity(bases.len(), bases.len() * len);
@@ -407,13 +412,26 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
             let DataType::FixedSizeList(item_field, _) = ty else {
                 unreachable!("a list node has a list type")
             };
-            let inner: Vec<(&[u8], usize)> = bases
-                .iter()
-                .flat_map(|&(p, b)| (0..*len).map(move |j| (p, b + offset + j * stride)))
-                .collect();
-            let child = build(item, item_field.data_type(), &inner)?;
+            let (len, offset, stride) = (*len, *offset, *stride);
+            let child = match **item {
+                // An array of values (most arrays: `float[3]`, `q[4]`) read in place.
+                Node::Value { ty, offset: at } => values(
+                    ty,
+                    bases.len() * len,
+                    bases.iter().flat_map(|&(p, b)| {
+                        (0..len).map(move |j| &p[b + offset + j * stride + at..])
+                    }),
+                ),
+                _ => {
+                    let inner: Vec<(&[u8], usize)> = bases
+                        .iter()
+                        .flat_map(|&(p, b)| (0..len).map(move |j| (p, b + offset + j * stride)))
+                        .collect();
+                    build(item, item_field.data_type(), &inner)?
+                }
+            };
             Arc::new(
-                FixedSizeListArray::try_new(item_field.clone(), *len as i32, child, None)
+                FixedSizeListArray::try_new(item_field.clone(), len as i32, child, None)
                     .map_err(ExportError::encoding)?,
             )
         }
@@ -449,21 +467,23 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
     })
 }
 
-/// `len` values, value `j` at the start of `at(j)`.
+/// The `len` values that start the slices of `at`, in order.
 fn primitive<'a, T: ArrowPrimitiveType, const N: usize>(
     len: usize,
-    at: impl Fn(usize) -> &'a [u8],
+    at: impl Iterator<Item = &'a [u8]>,
     from: fn([u8; N]) -> T::Native,
 ) -> ArrayRef {
-    Arc::new(PrimitiveArray::<T>::from_iter_values((0..len).map(|j| {
+    let mut values: Vec<T::Native> = Vec::with_capacity(len);
+    values.extend(at.map(|s| {
         let mut a = [0u8; N];
-        a.copy_from_slice(&at(j)[..N]);
+        a.copy_from_slice(&s[..N]);
         from(a)
-    })))
+    }));
+    Arc::new(PrimitiveArray::<T>::new(values.into(), None))
 }
 
-/// `len` values of type `ty`, value `j` at the start of `at(j)`.
-fn values<'a>(ty: BasicType, len: usize, at: impl Fn(usize) -> &'a [u8]) -> ArrayRef {
+/// The `len` values of type `ty` that start the slices of `at`, in order.
+fn values<'a>(ty: BasicType, len: usize, at: impl Iterator<Item = &'a [u8]>) -> ArrayRef {
     match ty {
         BasicType::Int8 => primitive::<Int8Type, 1>(len, at, i8::from_le_bytes),
         BasicType::UInt8 | BasicType::Char => primitive::<UInt8Type, 1>(len, at, u8::from_le_bytes),
@@ -475,10 +495,10 @@ fn values<'a>(ty: BasicType, len: usize, at: impl Fn(usize) -> &'a [u8]) -> Arra
         BasicType::UInt64 => primitive::<UInt64Type, 8>(len, at, u64::from_le_bytes),
         BasicType::Float => primitive::<Float32Type, 4>(len, at, f32::from_le_bytes),
         BasicType::Double => primitive::<Float64Type, 8>(len, at, f64::from_le_bytes),
-        BasicType::Bool => Arc::new(
-            (0..len)
-                .map(|j| Some(at(j)[0] != 0))
-                .collect::<BooleanArray>(),
-        ),
+        BasicType::Bool => {
+            let mut bits = arrow_buffer::BooleanBufferBuilder::new(len);
+            at.for_each(|s| bits.append(s[0] != 0));
+            Arc::new(BooleanArray::new(bits.finish(), None))
+        }
     }
 }

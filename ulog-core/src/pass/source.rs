@@ -77,6 +77,7 @@ impl<'a> Source<'a> {
     /// reads it (on the thread that reads, which is not the pass's with read-ahead):
     /// a hash of the file at no second read. It sees the whole file when the pass
     /// frames it to its end.
+    #[cfg_attr(not(feature = "parquet"), allow(dead_code))]
     pub(crate) fn file_observed(path: impl AsRef<Path>, observer: Observer<'a>) -> Source<'a> {
         Source {
             inner: Inner::File(path.as_ref().to_owned()),
