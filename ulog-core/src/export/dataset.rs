@@ -641,13 +641,16 @@ fn read_table(
     };
     let file = File::open(path).map_err(|e| ExportError::io(e, path))?;
     let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| bad(e.to_string()))?;
-    let written_flat = builder
-        .metadata()
-        .file_metadata()
-        .key_value_metadata()
-        .and_then(|kv: &Vec<ParquetKeyValue>| kv.iter().find(|kv| kv.key == FLATTEN_KEY))
-        .and_then(|kv| kv.value.clone());
-    if let Some(flat) = written_flat {
+    // A key of the file's metadata.
+    let recorded = |key: &str| {
+        builder
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .and_then(|kv: &Vec<ParquetKeyValue>| kv.iter().find(|kv| kv.key == key))
+            .and_then(|kv| kv.value.clone())
+    };
+    if let Some(flat) = recorded(FLATTEN_KEY) {
         if flat != flatten.to_string() {
             let (was, now) = if flatten {
                 ("without", "with")
@@ -663,12 +666,7 @@ fn read_table(
             .in_file(path));
         }
     }
-    let rule = builder
-        .metadata()
-        .file_metadata()
-        .key_value_metadata()
-        .and_then(|kv: &Vec<ParquetKeyValue>| kv.iter().find(|kv| kv.key == LOG_ID_KEY))
-        .and_then(|kv| kv.value.clone());
+    let rule = recorded(LOG_ID_KEY);
     if rule.as_deref() != Some(LOG_ID_RULE) {
         return Err(ExportError::new(ExportErrorKind::Dataset {
             what: format!(
