@@ -105,6 +105,19 @@ fn every_command_survives_a_file_changing_under_it() {
             out.display().to_string(),
             "-q".into(),
         ],
+        // A dataset of one: its id read before the pass, checked again by it.
+        vec![
+            "parquet".into(),
+            "-o".into(),
+            out.display().to_string(),
+            "-q".into(),
+        ],
+        // Two passes over the file.
+        vec![
+            "report".into(),
+            "-o".into(),
+            dir.join("report.html").display().to_string(),
+        ],
         vec!["codegen".into()],
         vec![
             "plot".into(),

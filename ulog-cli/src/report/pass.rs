@@ -31,6 +31,18 @@ impl Input {
         }
     }
 
+    /// The file's size and modification time as they are now (a file rewritten
+    /// between the passes changes them even where its framing does not); `None` for
+    /// a log read into memory.
+    fn stamp(&self) -> Option<(u64, Option<std::time::SystemTime>)> {
+        match self {
+            Input::File(path) => std::fs::metadata(path)
+                .ok()
+                .map(|m| (m.len(), m.modified().ok())),
+            Input::Read(_) => None,
+        }
+    }
+
     fn source(&self) -> Source<'_> {
         match self {
             Input::File(path) => Source::file(path),
@@ -49,6 +61,8 @@ pub struct Survey {
     pub rows: Vec<usize>,
     /// Per subscription, the timestamp of its first data message, when it has one.
     pub first: Vec<Option<u64>>,
+    /// The file's size and time before the first pass ([`Input::stamp`]).
+    stamp: Option<(u64, Option<std::time::SystemTime>)>,
 }
 
 /// Reads the next chunk while one is framed (a few MiB).
@@ -61,6 +75,7 @@ pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
     let mut rows: Vec<usize> = Vec::new();
     let mut first: Vec<Option<u64>> = Vec::new();
     let keep = options().keep_metadata(true);
+    let stamp = input.stamp();
     let mut summary = ulog_core::scan(input.source(), &keep, |r| {
         let i = r.topic.index();
         if rows.len() <= i {
@@ -83,6 +98,7 @@ pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
         metadata,
         rows,
         first,
+        stamp,
     })
 }
 
@@ -135,13 +151,15 @@ pub fn read(
     .map_err(|e| failure(input, name, &e))?;
     let seen = |s: &ScanSummary| {
         (
+            s.header,
+            s.flag_bits,
             s.messages,
             s.data_messages,
-            s.topics.len(),
+            s.topics.clone(),
             s.findings.clone(),
         )
     };
-    if seen(&summary) != seen(&survey.summary) {
+    if seen(&summary) != seen(&survey.summary) || input.stamp() != survey.stamp {
         return Err(Failure::about(
             name,
             "the file changed while it was read (two passes over it framed different logs)",

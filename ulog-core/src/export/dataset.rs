@@ -47,7 +47,9 @@ pub const FORMATS_FILE: &str = "formats.parquet";
 /// id is needed before the pass, for every row it writes, and the SHA-256 of a 300 MB
 /// log took 0.15 s of one core ahead of it (perf, log_61 ×90); XXH3 reads it at memory
 /// speed, and the SHA-256 is taken as the pass reads the file, on its read-ahead
-/// thread.
+/// thread (with the id again: a file that changed in between is an error). XXH3 is not
+/// made to resist a crafted collision: a log made to take another's id would have that
+/// one skipped, which `sha256` shows.
 const LOG_ID_RULE: &str = "xxh3-64";
 
 /// A folder of Parquet files that holds any number of logs, for engines that read a
@@ -206,23 +208,24 @@ impl Dataset {
             utc,
             ..self.options.clone()
         };
-        // The SHA-256 taken as the pass reads the file (on its read-ahead thread).
-        let sha256 = Arc::new(Mutex::new(Sha256::new()));
-        let hashing = sha256.clone();
+        // The SHA-256 taken as the pass reads the file (on its read-ahead thread), with
+        // the id again, to know the pass read the file the id was taken of.
+        let read = Arc::new(Mutex::new(Hashed::default()));
+        let reading = read.clone();
         let source = crate::Source::file_observed(
             path,
             Box::new(move |bytes: &[u8]| {
-                hashing
-                    .lock()
-                    .unwrap_or_else(|p| p.into_inner())
-                    .update(bytes)
+                let mut read = reading.lock().unwrap_or_else(|p| p.into_inner());
+                read.sha256.update(bytes);
+                read.id.update(bytes);
+                read.bytes += bytes.len() as u64;
             }),
         );
         let origin = Origin {
             log_id: log_id.clone(),
             path: path.display().to_string(),
             size,
-            sha256,
+            read,
         };
         let exported = export(
             source,
@@ -287,19 +290,43 @@ pub(super) struct Origin {
     log_id: String,
     path: String,
     size: u64,
-    /// Its SHA-256, fed by the pass as it reads the file.
-    sha256: Arc<Mutex<Sha256>>,
+    /// What the pass read of it.
+    read: Arc<Mutex<Hashed>>,
+}
+
+/// The hashes of the bytes a pass read, as it reads them.
+#[derive(Default)]
+struct Hashed {
+    sha256: Sha256,
+    id: xxhash_rust::xxh3::Xxh3,
+    bytes: u64,
+}
+
+impl core::fmt::Debug for Hashed {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "Hashed({} bytes)", self.bytes)
+    }
 }
 
 impl Origin {
-    /// The SHA-256 of the file in hex, once the pass has read it to its end.
-    fn sha256(&self) -> String {
-        let hash = self
-            .sha256
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .clone();
-        hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    /// The SHA-256 of the file in hex, once the pass has read it to its end; an error
+    /// when the pass did not read the bytes its id was taken of (the file changed in
+    /// between: a log still being written or copied), whose rows would then not be
+    /// those of the log the id names.
+    fn sha256(&self) -> Result<String> {
+        let read = self.read.lock().unwrap_or_else(|p| p.into_inner());
+        if read.bytes != self.size || format!("{:016x}", read.id.digest()) != self.log_id {
+            return Err(ExportError::new(ExportErrorKind::Dataset {
+                what: format!(
+                    "the file changed while it was read ({} bytes, then {}): convert it \
+                     once it is complete",
+                    self.size, read.bytes
+                ),
+            })
+            .in_file(Path::new(&self.path)));
+        }
+        let hash = read.sha256.clone().finalize();
+        Ok(hash.iter().map(|b| format!("{b:02x}")).collect())
     }
 }
 
@@ -439,7 +466,7 @@ impl LogTables {
                 ids(1),
                 text(Some(origin.path.clone())),
                 Arc::new(UInt64Builder::new().append_value_then(origin.size)),
-                text(Some(origin.sha256())),
+                text(Some(origin.sha256()?)),
                 Arc::new(UInt64Builder::new().append_value_then(start)),
                 Arc::new(start_utc.finish()),
                 text(utc.as_ref().map(|c| c.source().to_string())),

@@ -207,8 +207,8 @@ pub fn write_mcap<'s, W: Write + Seek>(
         McapEncoding::Ros2 => "ros2",
         McapEncoding::Json => "",
     };
-    // Level −1 (zstd's fastest but one): compression is the larger half of the work.
-    // On the ≈300 MB logs it takes 9% less CPU than level 1 for files 3% larger
+    // Level −1 (the first of zstd's fast levels): compression is the larger half of
+    // the work. On the ≈300 MB logs it takes 9% less CPU than level 1 for files 3% larger
     // (log61 ×90: 297 MB against 287 MB; events ×200: 243 MB against 237 MB; level 3
     // gives 231 MB on events): what keeps the export as fast as CSV's (BENCHMARKS.md).
     let writer = McapWriter::create(
