@@ -28,6 +28,7 @@ use crate::units::unit_of;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
 
+use super::rows::Rows;
 use super::{latin1, Options};
 
 /// How one column (or a part of one) is read from a payload. Offsets are relative
@@ -327,29 +328,10 @@ impl TopicTable {
         self.needed
     }
 
-    /// Column `i` of the rows laid end to end in `rows`, `stride` bytes each (at least
-    /// [`TopicTable::needed`]). A value read straight from the rows at its stride (a
-    /// flattened column, or a top-level field); nested columns from `bases`, the
-    /// rows as payloads, made once for all the columns of the rows.
-    pub(crate) fn column_of_rows<'r>(
-        &self,
-        i: usize,
-        rows: &'r [u8],
-        stride: usize,
-        bases: &mut Vec<(&'r [u8], usize)>,
-    ) -> Result<ArrayRef> {
-        if let Node::Value { ty, offset } = self.columns[i] {
-            let len = rows.len() / stride;
-            return Ok(values(
-                ty,
-                len,
-                rows.chunks_exact(stride).map(|r| &r[offset..]),
-            ));
-        }
-        if bases.is_empty() {
-            bases.extend(rows.chunks_exact(stride).map(|p| (p, 0)));
-        }
-        build(&self.columns[i], self.schema.field(i).data_type(), bases)
+    /// Column `i` of `rows` (each at least [`TopicTable::needed`] bytes), read from
+    /// the rows where they are.
+    pub(crate) fn column_of_rows(&self, i: usize, rows: &Rows) -> Result<ArrayRef> {
+        build(&self.columns[i], self.schema.field(i).data_type(), rows)
     }
 
     /// The record batch of `payloads` (rows of the topic, in order); `offset` gives the
@@ -370,11 +352,12 @@ impl TopicTable {
             }
         }
         let bases: Vec<(&[u8], usize)> = payloads.iter().map(|&p| (p, 0)).collect();
+        let bases = &bases[..];
         let arrays: Vec<ArrayRef> = self
             .columns
             .iter()
             .zip(self.schema.fields())
-            .map(|(node, field)| build(node, field.data_type(), &bases))
+            .map(|(node, field)| build(node, field.data_type(), bases))
             .collect::<Result<_>>()?;
         RecordBatch::try_new_with_options(
             self.schema.clone(),
@@ -385,19 +368,44 @@ impl TopicTable {
     }
 }
 
-/// The values of `node` at every base (a payload and the offset of the enclosing
-/// value in it). The payloads were checked to be long enough.
-fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRef> {
+/// Where the values of a node are: payloads, and the offset of the enclosing value
+/// in each. The rows of a row group are their own bases (offset 0): no list of them
+/// is made (one was 24 bytes a row, more than many rows).
+trait Bases {
+    fn len(&self) -> usize;
+    fn iter(&self) -> impl Iterator<Item = (&[u8], usize)> + Clone;
+}
+
+impl Bases for Rows {
+    fn len(&self) -> usize {
+        Rows::len(self)
+    }
+    fn iter(&self) -> impl Iterator<Item = (&[u8], usize)> + Clone {
+        Rows::iter(self).map(|p| (p, 0))
+    }
+}
+
+impl Bases for [(&[u8], usize)] {
+    fn len(&self) -> usize {
+        <[_]>::len(self)
+    }
+    fn iter(&self) -> impl Iterator<Item = (&[u8], usize)> + Clone {
+        <[_]>::iter(self).copied()
+    }
+}
+
+/// The values of `node` at every base. The payloads were checked to be long enough.
+fn build(node: &Node, ty: &DataType, bases: &(impl Bases + ?Sized)) -> Result<ArrayRef> {
     Ok(match node {
         Node::Value { ty, offset } => values(
             *ty,
             bases.len(),
-            bases.iter().map(|&(p, b)| &p[b + offset..]),
+            bases.iter().map(|(p, b)| &p[b + offset..]),
         ),
         Node::Text { offset, len } => {
             let mut text = String::new();
             let mut strings = StringBuilder::with_capacity(bases.len(), bases.len() * len);
-            for &(p, b) in bases {
+            for (p, b) in bases.iter() {
                 latin1(&p[b + offset..b + offset + len], &mut text);
                 strings.append_value(&text);
             }
@@ -418,16 +426,16 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
                 Node::Value { ty, offset: at } => values(
                     ty,
                     bases.len() * len,
-                    bases.iter().flat_map(|&(p, b)| {
+                    bases.iter().flat_map(|(p, b)| {
                         (0..len).map(move |j| &p[b + offset + j * stride + at..])
                     }),
                 ),
                 _ => {
                     let inner: Vec<(&[u8], usize)> = bases
                         .iter()
-                        .flat_map(|&(p, b)| (0..len).map(move |j| (p, b + offset + j * stride)))
+                        .flat_map(|(p, b)| (0..len).map(move |j| (p, b + offset + j * stride)))
                         .collect();
-                    build(item, item_field.data_type(), &inner)?
+                    build(item, item_field.data_type(), &inner[..])?
                 }
             };
             Arc::new(
@@ -440,11 +448,11 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
             fields,
             children,
         } => {
-            let inner: Vec<(&[u8], usize)> = bases.iter().map(|&(p, b)| (p, b + offset)).collect();
+            let inner: Vec<(&[u8], usize)> = bases.iter().map(|(p, b)| (p, b + offset)).collect();
             let arrays = children
                 .iter()
                 .zip(fields.iter())
-                .map(|(c, f)| build(c, f.data_type(), &inner))
+                .map(|(c, f)| build(c, f.data_type(), &inner[..]))
                 .collect::<Result<Vec<_>>>()?;
             Arc::new(
                 StructArray::try_new(fields.clone(), arrays, None)
@@ -452,7 +460,7 @@ fn build(node: &Node, ty: &DataType, bases: &[(&[u8], usize)]) -> Result<ArrayRe
             )
         }
         Node::Utc { offset, boot_us } => Arc::new(
-            TimestampMicrosecondArray::from_iter_values(bases.iter().map(|&(p, b)| {
+            TimestampMicrosecondArray::from_iter_values(bases.iter().map(|(p, b)| {
                 let mut a = [0u8; 8];
                 a.copy_from_slice(&p[b + offset..b + offset + 8]);
                 let t = u64::from_le_bytes(a).min(i64::MAX as u64) as i64;
@@ -474,11 +482,14 @@ fn primitive<'a, T: ArrowPrimitiveType, const N: usize>(
     from: fn([u8; N]) -> T::Native,
 ) -> ArrayRef {
     let mut values: Vec<T::Native> = Vec::with_capacity(len);
-    values.extend(at.map(|s| {
+    // `for_each`, not `extend`: the rows of blocks and a list's items in each are
+    // nested iterators, which `for_each` runs as loops within loops (`extend` calls
+    // `next`, with its branches between blocks and rows, for each value).
+    at.for_each(|s| {
         let mut a = [0u8; N];
         a.copy_from_slice(&s[..N]);
-        from(a)
-    }));
+        values.push(from(a));
+    });
     Arc::new(PrimitiveArray::<T>::new(values.into(), None))
 }
 

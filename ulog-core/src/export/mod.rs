@@ -66,6 +66,7 @@ mod files;
 mod lazy_file;
 mod leaves;
 mod metadata;
+mod rows;
 mod stream;
 #[cfg(test)]
 mod tests;
@@ -129,7 +130,8 @@ pub struct Options {
     /// one (each topic's row group is also written when it is full). With the row
     /// groups on their way (one per thread, one waiting for a thread and one being
     /// handed over, at most 16 MiB of rows each), this bounds the memory of an export
-    /// whatever the size of the log. At least 1; default 32 MiB.
+    /// whatever the size of the log. At least 1; default 24 MiB (bench/README.md gives
+    /// the peaks and file sizes of other budgets).
     pub buffer_bytes: usize,
     /// A name of [`Options::topics`] that the log lacks is listed in
     /// [`Export::missing_topics`] instead of failing the export (which still fails
@@ -156,7 +158,7 @@ impl Default for Options {
             batch_rows: 65_536,
             row_group_rows: 1 << 20,
             threads: 1,
-            buffer_bytes: 32 << 20,
+            buffer_bytes: 24 << 20,
             skip_missing_topics: false,
             utc: None,
             log_id: None,

@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver};
@@ -32,6 +32,7 @@ use super::files::{
 use super::lazy_file::LazyFile;
 use super::leaves::LeafWriter;
 use super::metadata::{json, Facts};
+use super::rows::Rows;
 use super::{name_of, Options, METADATA_FILE};
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
@@ -40,8 +41,8 @@ type Result<T, E = ExportError> = core::result::Result<T, E>;
 /// aside in a file instead, until they make one. On the two ≈300 MB logs (zstd), 1, 2,
 /// 4, 8 and 16 MiB gave files 1.48/1.22, 1.30/1.13, 1.16/1.08, 1.09/1.04 and 1.04/1.02
 /// times flight-review-rs's size, and peaks of 122/124, 139/152, 163/168, 271/221 and
-/// 282/299 MB (the larger row groups come with more memory held by the allocator; see
-/// bench/README.md).
+/// 282/299 MB, when a topic's rows were one growing buffer, not blocks (the larger row
+/// groups came with more memory held by the allocator; see bench/README.md).
 const MIN_GROUP_BYTES: usize = 4 << 20;
 
 /// Bytes of the log framed between two calls of the progress callback.
@@ -73,7 +74,7 @@ struct Group {
     table: Arc<TopicTable>,
     file: Arc<TopicFile>,
     number: u64,
-    rows: Vec<u8>,
+    rows: Rows,
 }
 
 /// A topic instance with data, as the pass meets it.
@@ -98,7 +99,7 @@ struct Open {
     needed: usize,
     file: Arc<TopicFile>,
     /// Rows held, after those in `spill`.
-    buffer: Vec<u8>,
+    buffer: Rows,
     /// Rows put aside in a file when the rows held by all topics passed the budget
     /// and this topic, holding the most, had too few for a row group of
     /// [`MIN_GROUP_BYTES`]; they come before `buffer`'s, and the next row group is cut
@@ -198,11 +199,11 @@ pub(super) fn export(
         };
         // A row group of the rows put aside and those held.
         let cut = |slot: &mut Open, buffered: &mut usize| {
-            *buffered -= slot.buffer.len();
-            let held = std::mem::take(&mut slot.buffer);
-            let rows = match slot.spill.take() {
+            *buffered -= slot.buffer.bytes();
+            let held = slot.buffer.take();
+            let rows = match slot.spill.take(held.stride()) {
                 Ok(mut rows) if !rows.is_empty() => {
-                    rows.extend_from_slice(&held);
+                    rows.append(held);
                     rows
                 }
                 Ok(_) => held,
@@ -220,9 +221,9 @@ pub(super) fn export(
         };
         // The rows held, put aside.
         let put_aside = |slot: &mut Open, buffered: &mut usize| {
-            *buffered -= slot.buffer.len();
+            *buffered -= slot.buffer.bytes();
             // Their memory goes too: the budget counts what is held.
-            let held = std::mem::take(&mut slot.buffer);
+            let held = slot.buffer.take();
             if let Err(e) = slot.spill.append(&held) {
                 fail(e);
             }
@@ -265,16 +266,13 @@ pub(super) fn export(
                 );
                 return Hand::Stop;
             };
-            slot.buffer.extend_from_slice(row);
-            if needed == 0 {
-                slot.buffer.push(0);
-            }
+            slot.buffer.push(if needed == 0 { &[0] } else { row });
             buffered += needed.max(1);
             if slot.wide {
-                if slot.buffer.len() >= slot.group_bytes {
+                if slot.buffer.bytes() >= slot.group_bytes {
                     put_aside(slot, &mut buffered);
                 }
-            } else if slot.buffer.len() + slot.spill.bytes >= slot.group_bytes {
+            } else if slot.buffer.bytes() + slot.spill.bytes >= slot.group_bytes {
                 cut(slot, &mut buffered);
             }
             if buffered > budget {
@@ -284,10 +282,10 @@ pub(super) fn export(
                         Slot::Open(o) => Some(o),
                         _ => None,
                     })
-                    .max_by_key(|o| o.buffer.len());
+                    .max_by_key(|o| o.buffer.bytes());
                 if let Some(slot) = largest {
                     let enough = MIN_GROUP_BYTES.min(slot.group_bytes);
-                    if !slot.wide && slot.buffer.len() + slot.spill.bytes >= enough {
+                    if !slot.wide && slot.buffer.bytes() + slot.spill.bytes >= enough {
                         cut(slot, &mut buffered);
                     } else {
                         put_aside(slot, &mut buffered);
@@ -511,9 +509,9 @@ fn open(
         sub: sub.clone(),
         group_bytes: group_rows * table.needed().max(1),
         needed: table.needed(),
+        buffer: Rows::new(table.needed()),
         table: (!wide).then(|| Arc::new(table)),
         file,
-        buffer: Vec::new(),
         spill: Spill {
             path: folder.join(format!("{stem}.{}.rows.partial", sub.index())),
             file: None,
@@ -546,7 +544,6 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
         number,
         rows,
     } = group;
-    let stride = table.needed().max(1);
     let mut turn = Turn::wait(&file, number);
     let writer = match &mut turn.state.writer {
         Some(w) => w,
@@ -559,11 +556,10 @@ fn write_group(group: Group, options: &Options) -> Result<()> {
         }
     };
     // The rows were cut to the bytes the columns need: none is short.
-    let mut bases = Vec::new();
     writer
-        .write_columns(rows.len() / stride, |i| {
+        .write_columns(rows.len(), |i| {
             table
-                .column_of_rows(i, &rows, stride, &mut bases)
+                .column_of_rows(i, &rows)
                 .map_err(|e| parquet::errors::ParquetError::External(Box::new(e)))
         })
         .map_err(|e| write_error(&file.shown, e))?;
@@ -702,7 +698,7 @@ struct Spill {
 }
 
 impl Spill {
-    fn append(&mut self, rows: &[u8]) -> Result<()> {
+    fn append(&mut self, rows: &Rows) -> Result<()> {
         if rows.is_empty() {
             return Ok(());
         }
@@ -710,22 +706,25 @@ impl Spill {
         let file = self.file.get_or_insert_with(|| {
             BufWriter::with_capacity(FILE_BUFFER, LazyFile::new(path.clone()))
         });
-        file.write_all(rows)
+        rows.blocks()
+            .try_for_each(|b| file.write_all(b))
             .and_then(|()| file.flush())
             .map_err(|e| ExportError::io(e, path))?;
         file.get_mut().release();
-        self.bytes += rows.len();
+        self.bytes += rows.bytes();
         Ok(())
     }
 
-    /// The rows in the file, which is emptied (the next rows start it again).
-    fn take(&mut self) -> Result<Vec<u8>> {
+    /// The rows of `stride` bytes in the file, which is emptied (the next rows start
+    /// it again).
+    fn take(&mut self, stride: usize) -> Result<Rows> {
         if self.file.take().is_none() {
-            return Ok(Vec::new());
+            return Ok(Rows::new(stride));
         }
-        self.bytes = 0;
-        let rows = std::fs::read(&self.path).map_err(|e| ExportError::io(e, &self.path))?;
-        Ok(rows)
+        let bytes = std::mem::take(&mut self.bytes);
+        File::open(&self.path)
+            .and_then(|mut f| Rows::read(&mut f, bytes, stride))
+            .map_err(|e| ExportError::io(e, &self.path))
     }
 }
 
@@ -746,10 +745,9 @@ fn write_wide(slot: &mut Open, options: &Options) -> Result<()> {
         let mut file = File::open(&path).map_err(|e| ExportError::io(e, &path))?;
         let mut left = slot.spill.bytes;
         while left > 0 {
-            let mut rows = vec![0u8; left.min(slot.group_bytes)];
-            file.read_exact(&mut rows)
+            let rows = Rows::read(&mut file, left.min(slot.group_bytes), slot.buffer.stride())
                 .map_err(|e| ExportError::io(e, &path))?;
-            left -= rows.len();
+            left -= rows.bytes();
             write_group(
                 Group {
                     table: table.clone(),
