@@ -370,7 +370,8 @@ impl TopicTable {
 
 /// Where the values of a node are: payloads, and the offset of the enclosing value
 /// in each. The rows of a row group are their own bases (offset 0): no list of them
-/// is made (one was 24 bytes a row, more than many rows).
+/// is made (one was 24 bytes a row, more than many rows); the values inside a
+/// nested format, or inside a list of them, are listed as they are built.
 trait Bases {
     fn len(&self) -> usize;
     fn iter(&self) -> impl Iterator<Item = (&[u8], usize)> + Clone;

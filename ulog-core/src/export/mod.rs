@@ -129,8 +129,9 @@ pub struct Options {
     /// more, else into a temporary file beside the output, read back when they make
     /// one (each topic's row group is also written when it is full). With the row
     /// groups on their way (one per thread, one waiting for a thread and one being
-    /// handed over, at most 16 MiB of rows each), this bounds the memory of an export
-    /// whatever the size of the log. At least 1; default 24 MiB (bench/README.md gives
+    /// handed over, at most 16 MiB of rows each) and the one block of 64 KiB at most
+    /// that each topic has begun, this bounds the memory of an export whatever the
+    /// size of the log. At least 1; default 24 MiB (bench/README.md gives
     /// the peaks and file sizes of other budgets).
     pub buffer_bytes: usize,
     /// A name of [`Options::topics`] that the log lacks is listed in

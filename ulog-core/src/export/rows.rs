@@ -1,24 +1,29 @@
-//! A topic's rows as the export holds them: in blocks of [`BLOCK_BYTES`] at most,
-//! each a whole number of rows, not in one buffer.
+//! A topic's rows as the export holds them: in blocks of [`BLOCK_BYTES`], each a
+//! whole number of rows, not in one buffer.
 //!
 //! One buffer per row group grew by doubling to 16 MiB and was copied at each step;
 //! it held up to twice the bytes the budget counted, and the allocator kept the freed
 //! buffers of every size as the export went (peak RSS 1.6× the live heap on the
-//! ≈300 MB logs: bench/README.md). Blocks of one size are reused as they are freed,
-//! are never copied, and a row group of rows put aside is joined to the rows held by
-//! chaining the blocks.
+//! ≈300 MB logs: bench/README.md). Full blocks are all allocated at [`BLOCK_BYTES`],
+//! so the allocator hands a freed one to the next block made; they are never copied,
+//! and a row group of rows put aside is joined to the rows held by chaining blocks.
+//! Only a topic's first block grows (and is copied) with its rows, so that a topic
+//! with few rows holds few bytes. Each topic holds at most one block not full, on top
+//! of the bytes its rows take.
 
 use std::io::Read;
 
 /// The size of a full block. Rows never straddle blocks, so a full block holds the
-/// whole rows that fit (a ULog row is at most 65,535 bytes: a block holds four).
-pub(super) const BLOCK_BYTES: usize = 256 << 10;
+/// whole rows that fit (a ULog row is at most 65,535 bytes: a block holds one or
+/// more). Each topic has begun one block at most; against 256 KiB, the export's peak
+/// was 7–15 MiB lower on the ≈300 MB logs (bench/README.md).
+pub(super) const BLOCK_BYTES: usize = 64 << 10;
 
 /// Rows of `stride` bytes, in order, in blocks.
 pub(crate) struct Rows {
     blocks: Vec<Vec<u8>>,
     stride: usize,
-    /// Bytes of a full block: the rows that fit in [`BLOCK_BYTES`].
+    /// Bytes of rows in a full block: the rows that fit in [`BLOCK_BYTES`].
     full: usize,
     /// Bytes held.
     bytes: usize,
@@ -55,6 +60,7 @@ impl Rows {
         self.bytes / self.stride
     }
 
+    /// No rows held.
     pub(crate) fn is_empty(&self) -> bool {
         self.bytes == 0
     }
@@ -82,7 +88,11 @@ impl Rows {
         if !self.blocks.is_empty() {
             self.busy = true;
         }
-        let capacity = if self.busy { self.full } else { 0 };
+        let capacity = if self.busy {
+            self.full.max(BLOCK_BYTES)
+        } else {
+            0
+        };
         self.blocks.push(Vec::with_capacity(capacity));
         self.blocks.last_mut().expect("just pushed")
     }
@@ -115,13 +125,20 @@ impl Rows {
     }
 
     /// Reads `bytes` bytes of rows of `stride` bytes from `from` (rows earlier written
-    /// from [`Rows::blocks`]).
+    /// from [`Rows::blocks`]); `bytes` not a whole number of rows is an error.
     pub(crate) fn read(from: &mut impl Read, bytes: usize, stride: usize) -> std::io::Result<Rows> {
         let mut rows = Rows::new(stride);
         rows.busy = true;
-        let mut left = bytes - bytes % rows.stride;
+        if bytes % rows.stride != 0 {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("{bytes} bytes are not a whole number of rows of {stride} bytes"),
+            ));
+        }
+        let mut left = bytes;
         while left > 0 {
-            let mut block = vec![0u8; left.min(rows.full)];
+            let mut block = Vec::with_capacity(rows.full.max(BLOCK_BYTES));
+            block.resize(left.min(rows.full), 0);
             from.read_exact(&mut block)?;
             left -= block.len();
             rows.bytes += block.len();
@@ -146,7 +163,7 @@ mod tests {
 
     #[test]
     fn rows_come_back_in_order_and_never_straddle_blocks() {
-        // 100,000 rows of 13 bytes: 5 blocks, the first grown, then full ones.
+        // 100,000 rows of 13 bytes: the first block grown, then full ones.
         let held = rows(13, 100_000);
         assert_eq!(held.len(), 100_000);
         assert_eq!(held.bytes(), 1_300_000);
@@ -154,7 +171,11 @@ mod tests {
         let sizes: Vec<usize> = held.blocks().map(<[u8]>::len).collect();
         assert_eq!(sizes.len(), 1_300_000_usize.div_ceil(full));
         assert!(sizes.iter().all(|s| s % 13 == 0 && *s <= full), "{sizes:?}");
-        assert!(held.blocks.iter().skip(1).all(|b| b.capacity() == full));
+        assert!(held
+            .blocks
+            .iter()
+            .skip(1)
+            .all(|b| b.capacity() == BLOCK_BYTES));
         for (i, row) in held.iter().enumerate() {
             let expected: Vec<u8> = (0..13).map(|j| (i * 7 + j) as u8).collect();
             assert_eq!(row, expected, "row {i}");
@@ -190,6 +211,10 @@ mod tests {
             again[70_000],
             &(0..9).map(|j| j as u8).collect::<Vec<_>>()[..]
         );
+        let Err(error) = Rows::read(&mut &bytes[..], 10, 9) else {
+            panic!("10 bytes read as rows of 9");
+        };
+        assert_eq!(error.kind(), std::io::ErrorKind::InvalidData);
     }
 
     #[test]
@@ -197,8 +222,8 @@ mod tests {
         let held = rows(BLOCK_BYTES, 3);
         assert_eq!(held.blocks().count(), 3);
         let wide = rows(65_535, 9);
-        assert!(wide
-            .blocks()
-            .all(|b| b.len() == 4 * 65_535 || b.len() == 65_535));
+        let per_block = (BLOCK_BYTES / 65_535).max(1);
+        assert_eq!(wide.blocks().count(), 9_usize.div_ceil(per_block));
+        assert!(wide.blocks().all(|b| b.len() % 65_535 == 0));
     }
 }

@@ -222,7 +222,7 @@ pub(super) fn export(
         // The rows held, put aside.
         let put_aside = |slot: &mut Open, buffered: &mut usize| {
             *buffered -= slot.buffer.bytes();
-            // Their memory goes too: the budget counts what is held.
+            // Their memory goes too: the budget counts the rows held.
             let held = slot.buffer.take();
             if let Err(e) = slot.spill.append(&held) {
                 fail(e);
