@@ -37,7 +37,8 @@ pub enum ReadErrorKind {
     },
     /// The file changed while it was read: passes over it (the threads of
     /// [`load_columns`](crate::load_columns) each read the file) framed different
-    /// logs.
+    /// logs, or the pass of a Parquet dataset's export read other bytes than those
+    /// its `log_id` was taken of.
     Changed,
 }
 
@@ -114,7 +115,8 @@ impl ReadError {
                 format!("truncated ULog header: the file has {len} bytes, the header needs 16")
             }
             (ReadErrorKind::Changed, _) => {
-                "the file changed while it was read (two passes over it framed different logs)"
+                "the file changed while it was read (two reads of it differ): read it once it is \
+                 complete"
                     .to_owned()
             }
             (ReadErrorKind::UnknownIncompatFlags { byte, bits }, _) => format!(

@@ -24,6 +24,7 @@ use super::files::{compression_of, write_error};
 use super::metadata::Facts;
 use super::stream::{export, Layout};
 use super::{Export, Options};
+use crate::error::{ReadError, ReadErrorKind};
 use crate::finding::{Finding, FindingKind};
 use crate::log::message::KeyValue;
 use crate::log::ulog::ULog;
@@ -315,15 +316,9 @@ impl Origin {
     /// those of the log the id names.
     fn sha256(&self) -> Result<String> {
         let read = self.read.lock().unwrap_or_else(|p| p.into_inner());
-        if read.bytes != self.size || format!("{:016x}", read.id.digest()) != self.log_id {
-            return Err(ExportError::new(ExportErrorKind::Dataset {
-                what: format!(
-                    "the file changed while it was read ({} bytes, then {}): convert it \
-                     once it is complete",
-                    self.size, read.bytes
-                ),
-            })
-            .in_file(Path::new(&self.path)));
+        if read.bytes != self.size || id_text(&read.id) != self.log_id {
+            let changed = ReadError::new(ReadErrorKind::Changed, None);
+            return Err(ExportError::read(changed.in_file(Path::new(&self.path))));
         }
         let hash = read.sha256.clone().finalize();
         Ok(hash.iter().map(|b| format!("{b:02x}")).collect())
@@ -334,6 +329,11 @@ impl Origin {
 #[derive(Debug)]
 pub(super) struct LogTables([RecordBatch; 4]);
 
+/// A `log_id` as written: the XXH3-64 of the bytes hashed, 16 hex digits.
+fn id_text(hash: &xxhash_rust::xxh3::Xxh3) -> String {
+    format!("{:016x}", hash.digest())
+}
+
 /// The `log_id` of a file ([`LOG_ID_RULE`]) and its size.
 fn log_id(path: &Path) -> Result<(String, u64)> {
     let mut file = File::open(path).map_err(|e| ExportError::io(e, path))?;
@@ -342,7 +342,7 @@ fn log_id(path: &Path) -> Result<(String, u64)> {
     let mut size = 0u64;
     loop {
         let n = match file.read(&mut buffer) {
-            Ok(0) => return Ok((format!("{:016x}", hash.digest()), size)),
+            Ok(0) => return Ok((id_text(&hash), size)),
             Ok(n) => n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => return Err(ExportError::io(e, path)),
@@ -785,3 +785,48 @@ const LOG_ID_KEY: &str = "ulog.log_id";
 /// The key of the tables' metadata that says whether the topics' files have
 /// flattened columns ([`Options::flatten`]): a dataset's files all have the same.
 const FLATTEN_KEY: &str = "ulog.flatten";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An origin whose id and size were taken of `before`, and whose pass read `after`.
+    fn origin(before: &[u8], after: &[u8]) -> Origin {
+        let mut id = xxhash_rust::xxh3::Xxh3::new();
+        id.update(before);
+        let mut read = Hashed::default();
+        read.sha256.update(after);
+        read.id.update(after);
+        read.bytes = after.len() as u64;
+        Origin {
+            log_id: id_text(&id),
+            path: "flight.ulg".to_owned(),
+            size: before.len() as u64,
+            read: Arc::new(Mutex::new(read)),
+        }
+    }
+
+    #[test]
+    fn a_file_that_changed_between_its_id_and_its_pass_is_a_changed_file() {
+        let log = b"ULog\x01\x12\x35\x01 some bytes of a log";
+        let same = origin(log, log).sha256().unwrap();
+        let expected: String = Sha256::digest(log)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        assert_eq!(same, expected);
+        let mut other = log.to_vec();
+        other[20] ^= 1;
+        for after in [&log[..20], &other[..]] {
+            let e = origin(log, after).sha256().unwrap_err();
+            assert_eq!(e.kind(), &ExportErrorKind::Read, "{e}");
+            let source = std::error::Error::source(&e).and_then(|s| s.downcast_ref::<ReadError>());
+            assert!(
+                matches!(source.map(ReadError::kind), Some(ReadErrorKind::Changed)),
+                "{e}"
+            );
+            assert!(e.to_string().contains("flight.ulg"), "{e}");
+            assert!(e.to_string().contains("changed while it was read"), "{e}");
+        }
+    }
+}

@@ -16,7 +16,7 @@ use std::io::Read;
 /// The size of a full block. Rows never straddle blocks, so a full block holds the
 /// whole rows that fit (a ULog row is at most 65,535 bytes: a block holds one or
 /// more). Each topic has begun one block at most; against 256 KiB, the export's peak
-/// was 7–15 MiB lower on the ≈300 MB logs (bench/README.md).
+/// was 6–16 MiB lower on the ≈300 MB logs (bench/README.md).
 pub(super) const BLOCK_BYTES: usize = 64 << 10;
 
 /// Rows of `stride` bytes, in order, in blocks.
@@ -88,22 +88,23 @@ impl Rows {
         if !self.blocks.is_empty() {
             self.busy = true;
         }
-        let capacity = if self.busy {
-            self.full.max(BLOCK_BYTES)
-        } else {
-            0
-        };
+        let capacity = if self.busy { self.block_capacity() } else { 0 };
         self.blocks.push(Vec::with_capacity(capacity));
         self.blocks.last_mut().expect("just pushed")
     }
 
+    /// The allocation of a full block: [`BLOCK_BYTES`], or one row larger than that.
+    fn block_capacity(&self) -> usize {
+        self.full.max(BLOCK_BYTES)
+    }
+
     /// The rows held, leaving none (and remembering whether blocks are made full size).
     pub(crate) fn take(&mut self) -> Rows {
-        let busy = self.busy || self.blocks.len() > 1;
-        let mut taken = std::mem::replace(self, Rows::new(self.stride));
-        taken.busy = busy;
-        self.busy = busy;
-        taken
+        let left = Rows {
+            busy: self.busy,
+            ..Rows::new(self.stride)
+        };
+        std::mem::replace(self, left)
     }
 
     /// Appends the rows of `other` (of the same stride) after these.
@@ -137,7 +138,7 @@ impl Rows {
         }
         let mut left = bytes;
         while left > 0 {
-            let mut block = Vec::with_capacity(rows.full.max(BLOCK_BYTES));
+            let mut block = Vec::with_capacity(rows.block_capacity());
             block.resize(left.min(rows.full), 0);
             from.read_exact(&mut block)?;
             left -= block.len();
