@@ -11,7 +11,9 @@
 // `cfg(simplekml)` where it can import simplekml too (pyulog's `ulog2kml`), and
 // `cfg(mcap_readers)` where it can import `mcap`, `mcap_ros2`, `rosbags` and
 // `jsonschema`, `cfg(query_engines)` where it can import `duckdb`, `datafusion` and `xxhash`
-// (which run the README's fleet queries); `cfg(chromium)` where `/usr/bin/chromium`
+// (which run the README's fleet queries), `cfg(pandas)` where it can import pyulog,
+// `pandas` and `numpy` (which `ulog align` is checked with), `cfg(pyarrow)` where it can
+// import `pyarrow` (which reads the Parquet tables of `ulog align`); `cfg(chromium)` where `/usr/bin/chromium`
 // exists and `node` can require `playwright-core` from `target/node` of the workspace
 // (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise). With
 // `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
@@ -22,7 +24,7 @@
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
     println!(
-        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, chromium)"
+        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, pandas, pyarrow, chromium)"
     );
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
@@ -54,7 +56,8 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     // reader; simplekml, which pyulog's `ulog2kml` writes its KML with; Foxglove's
     // MCAP readers (`mcap`, `mcap-ros2-support`), `rosbags` and `jsonschema`, which read
     // and validate the MCAP files and ROS 2 bags we write; DuckDB and DataFusion, which
-    // query the Parquet datasets we write.
+    // query the Parquet datasets we write; pyarrow, which reads the Parquet tables of
+    // `ulog align`.
     let packages = [
         ("pyulog", "pyulog", "pyulog"),
         ("simplekml", "pyulog, simplekml", "simplekml"),
@@ -64,6 +67,8 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
             "mcap, mcap-ros2-support, rosbags or jsonschema",
         ),
         ("query_engines", "duckdb, datafusion, xxhash", "duckdb, datafusion or xxhash"),
+        ("pandas", "pyulog, pandas, numpy", "pandas or numpy"),
+        ("pyarrow", "pyarrow", "pyarrow"),
     ];
     for (cfg, imports, what) in packages {
         let found = std::process::Command::new("python3")

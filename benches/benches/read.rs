@@ -61,7 +61,7 @@ impl Two {
 fn typed_scan(bytes: &[u8]) -> f64 {
     let mut sum = 0.0;
     let options = ScanOptions::default().raw_others(true);
-    ulog_core::scan_topics::<Two, _, _>(bytes, &options, |r| {
+    ulog_core::scan_topics::<Two>(bytes, &options, |r| {
         if let Ok(ulog_core::TopicRecord {
             message: Some(message),
             ..
@@ -78,7 +78,7 @@ fn typed_scan(bytes: &[u8]) -> f64 {
 /// are not handed out).
 fn typed_scan_only(bytes: &[u8]) -> f64 {
     let mut sum = 0.0;
-    ulog_core::scan_topics::<Two, _, _>(bytes, &ScanOptions::default(), |r| {
+    ulog_core::scan_topics::<Two>(bytes, &ScanOptions::default(), |r| {
         if let Ok(ulog_core::TopicRecord {
             message: Some(message),
             ..

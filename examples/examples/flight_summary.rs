@@ -8,17 +8,21 @@
 //!
 //! Without a path it reads the bundled sample log (`ulog_core::testing::sample_log`).
 //!
-//! There is one struct per topic, whatever the firmware. Each names only the fields it
-//! needs; the reader checks it against the log's format once per topic instance, and
-//! finds the fields by name where newer firmware added or moved others. Fields that
-//! exist only in some firmware are `Option`s: GPS positions went from `int32_t`
-//! degrees·1e7 (`lat`) to `double` degrees (`latitude_deg`) in 2023, and a battery's
-//! drawn charge is not in every log. A topic a log lacks is said as such, with the
-//! closest topic names the log has.
+//! There is one struct per topic, whatever the firmware (`ulog_examples::firmware`
+//! holds the GPS and battery ones, which the tests check against pyulog on every
+//! corpus log). The reader checks each against the log's format once per topic
+//! instance, and finds the fields by name where newer firmware added or moved others.
+//! Fields that exist only in some firmware are `Option`s (GPS positions went from
+//! `int32_t` degrees·1e7 to `double` degrees in 2023); fields whose type changed take
+//! the wider type (`cell_count`: `int32_t`, then `uint8_t`); the GPS fix is found
+//! as `vehicle_gps_position` or, in logs without it, `sensor_gps` (an alias of the
+//! binding). A topic a log lacks is said as such, with the closest topic names the
+//! log has.
 
 use std::process::ExitCode;
 
 use ulog_core::{LogFile, TypedError, ULog, ULogMessage};
+use ulog_examples::firmware::{BatteryStatus, Fix, GpsFix, SensorCombined, VehicleStatus};
 
 /// The local position estimate (NED, metres, relative to the EKF origin).
 #[derive(ULogMessage, Debug, Clone, Copy)]
@@ -28,33 +32,6 @@ struct VehicleLocalPosition {
     y: f32,
     z: f32,
     xy_valid: bool,
-}
-
-/// A GPS fix, as PX4 has logged it since 2016. Logs since 2023 also have it as
-/// `sensor_gps`, read with the same struct.
-#[derive(ULogMessage, Debug, Clone, Copy)]
-#[ulog(name = "vehicle_gps_position")]
-struct GpsFix {
-    timestamp: u64,
-    /// Degrees, metres (since 2023).
-    latitude_deg: Option<f64>,
-    longitude_deg: Option<f64>,
-    altitude_msl_m: Option<f64>,
-    /// Degrees·1e7, millimetres (before).
-    lat: Option<i32>,
-    lon: Option<i32>,
-    alt: Option<i32>,
-    fix_type: u8,
-}
-
-/// Battery state: voltage, the estimated remaining charge (0..1) and, where the
-/// firmware logs it, the charge drawn so far.
-#[derive(ULogMessage, Debug, Clone, Copy)]
-struct BatteryStatus {
-    timestamp: u64,
-    voltage_v: f32,
-    remaining: f32,
-    discharged_mah: Option<f32>,
 }
 
 /// Height above the start at which the vehicle counts as flying.
@@ -91,6 +68,7 @@ fn main() -> ExitCode {
     local_position(&log);
     gps(&log);
     battery(&log);
+    imu_and_status(&log);
     ExitCode::SUCCESS
 }
 
@@ -169,40 +147,12 @@ fn local_position(log: &ULog<'_>) {
     println!("  peak altitude:   {peak:.1} m above the start");
 }
 
-/// A GPS fix in degrees and metres.
-struct Fix {
-    lat: f64,
-    lon: f64,
-    alt: f64,
-}
-
-impl GpsFix {
-    /// The fix in degrees and metres, from whichever fields the log has.
-    fn degrees(&self) -> Option<Fix> {
-        match (self.latitude_deg, self.longitude_deg, self.altitude_msl_m) {
-            (Some(lat), Some(lon), Some(alt)) => Some(Fix { lat, lon, alt }),
-            _ => Some(Fix {
-                lat: f64::from(self.lat?) * 1e-7,
-                lon: f64::from(self.lon?) * 1e-7,
-                alt: f64::from(self.alt?) * 1e-3,
-            }),
-        }
-    }
-}
-
 /// The GPS track: length and highest point, from `vehicle_gps_position`, or from
-/// `sensor_gps` where a log has only that.
+/// `sensor_gps` in logs without it (the binding's alias).
 fn gps(log: &ULog<'_>) {
     let rows = match log.read::<GpsFix>(0) {
         Ok(rows) => rows,
-        Err(e) => match log.topic("sensor_gps", 0) {
-            // The same fields under the topic newer firmware logs them in.
-            Ok(topic) => match topic.read::<GpsFix>() {
-                Ok(rows) => rows,
-                Err(e) => return unavailable("GPS:", &e),
-            },
-            Err(_) => return unavailable("GPS:", &e),
-        },
+        Err(e) => return unavailable("GPS:", &e),
     };
     let fixes: Vec<Fix> = rows
         .iter()
@@ -273,6 +223,51 @@ fn battery(log: &ULog<'_>) {
         if let (Some(a), Some(b)) = (drawn.first(), drawn.last()) {
             line += &format!(", {:.0} mAh drawn", b - a);
         }
+        // The lowest cell under load, where the firmware logs cells (4, 10 or 14 of
+        // them; `cell_count` says how many the battery has).
+        let cells = usize::try_from(last.cell_count).unwrap_or(0);
+        let lowest = readings
+            .iter()
+            .filter_map(|b| b.voltage_cell_v)
+            .flat_map(|v| v.into_iter().take(cells))
+            .filter(|v| *v > 1.0)
+            .fold(f32::INFINITY, f32::min);
+        if lowest.is_finite() {
+            line += &format!(", {cells} cells, lowest {lowest:.2} V");
+        }
         println!("{line}");
+    }
+}
+
+/// The IMU's rate and the vehicle's MAVLink id: fields whose types changed across
+/// firmware (`*_integral_dt` from `float` seconds to `uint32_t` microseconds,
+/// `system_id` from `uint32_t` to `uint8_t`), read by one struct each.
+fn imu_and_status(log: &ULog<'_>) {
+    match log.read::<SensorCombined>(0) {
+        Ok(rows) => {
+            let mut dts: Vec<f32> = rows
+                .iter()
+                .filter_map(Result::ok)
+                .map(|s| s.gyro_integral_dt)
+                .filter(|dt| *dt > 0.0)
+                .collect();
+            dts.sort_by(f32::total_cmp);
+            match dts.get(dts.len() / 2) {
+                Some(dt) => println!(
+                    "  IMU:             {} samples, each integrating {:.2} ms (median)",
+                    rows.len(),
+                    dt * 1e3
+                ),
+                None => println!("  IMU:             no samples"),
+            }
+        }
+        Err(e) => unavailable("IMU:", &e),
+    }
+    match log.read::<VehicleStatus>(0) {
+        Ok(rows) => match rows.iter().filter_map(Result::ok).last() {
+            Some(s) => println!("  vehicle:         MAVLink system id {}", s.system_id),
+            None => println!("  vehicle:         no status"),
+        },
+        Err(e) => unavailable("vehicle:", &e),
     }
 }

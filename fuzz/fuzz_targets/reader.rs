@@ -45,7 +45,7 @@ impl Topics {
 fn only_is_scan_topics_without_raw(data: &[u8]) {
     let mut full = Vec::new();
     let raw_others = ScanOptions::default().raw_others(true);
-    let a = ulog_core::scan_topics::<Topics, _, _>(data, &raw_others, |r| match r {
+    let a = ulog_core::scan_topics::<Topics>(data, &raw_others, |r| match r {
         Ok(r) => {
             if let Some(message) = r.message {
                 full.push(format!("{} {}", r.topic.multi_id(), message.key()))
@@ -54,7 +54,7 @@ fn only_is_scan_topics_without_raw(data: &[u8]) {
         Err(e) => full.push(format!("{e:?}")),
     });
     let mut only = Vec::new();
-    let b = ulog_core::scan_topics::<Topics, _, _>(data, &ScanOptions::default(), |r| match r {
+    let b = ulog_core::scan_topics::<Topics>(data, &ScanOptions::default(), |r| match r {
         Ok(m) => {
             let message = m
                 .message

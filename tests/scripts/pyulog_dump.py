@@ -2,7 +2,8 @@
 """Loads a ULog file with pyulog and prints what it read as JSON, for the tests that
 check that pyulog accepts the logs our writer writes.
 
-Usage: pyulog_dump.py FILE.ulg
+Usage: pyulog_dump.py FILE.ulg [--only TOPIC ...]  (with --only: the data of those
+topics alone, as pyulog's message_name_filter_list reads it)
 """
 import contextlib
 import json
@@ -26,7 +27,8 @@ def plain(v):
 def main():
     # pyulog prints its complaints about a log to stdout; stdout is for the JSON.
     with contextlib.redirect_stdout(sys.stderr):
-        ulog = ULog(sys.argv[1])
+        only = sys.argv[3:] if sys.argv[2:3] == ["--only"] else None
+        ulog = ULog(sys.argv[1], only)
     out = {
         "corrupt": bool(ulog.file_corruption),
         "info": {k: plain(v) for k, v in ulog.msg_info_dict.items()},

@@ -5,6 +5,8 @@ use std::path::{Path, PathBuf};
 
 use ulog_core::Value;
 
+pub mod module_logs;
+
 /// The corpus of real logs the tests check (`files/` and pyulog's `expected/`), as
 /// `build.rs` picked it: `$ULOG_CORPUS`, else the full shared corpus beside the
 /// workspace (`../shared/corpus`), else the repository's own logs (`tests/corpus`).
@@ -145,6 +147,20 @@ pub fn pyulog_dump(test: &str, bytes: &[u8]) -> serde_json::Value {
 /// [`pyulog_dump`], or pyulog's error output when it refuses the bytes (an exception
 /// on damaged input).
 pub fn pyulog_try_dump(test: &str, bytes: &[u8]) -> Result<serde_json::Value, String> {
+    pyulog_dump_run(test, bytes, None)
+}
+
+/// [`pyulog_dump`] with the data of these topics only (pyulog's
+/// `message_name_filter_list`): the rest of the log as in the full dump.
+pub fn pyulog_dump_topics(test: &str, bytes: &[u8], topics: &[&str]) -> serde_json::Value {
+    pyulog_dump_run(test, bytes, Some(topics)).unwrap_or_else(|e| panic!("pyulog failed: {e}"))
+}
+
+fn pyulog_dump_run(
+    test: &str,
+    bytes: &[u8],
+    topics: Option<&[&str]>,
+) -> Result<serde_json::Value, String> {
     use std::process::Command;
     let dir = std::env::temp_dir().join(format!("ulog-pyulog-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -154,6 +170,11 @@ pub fn pyulog_try_dump(test: &str, bytes: &[u8]) -> Result<serde_json::Value, St
     let out = Command::new("python3")
         .arg(script)
         .arg(&path)
+        .args(
+            topics
+                .map(|t| [&["--only"], t].concat())
+                .unwrap_or_default(),
+        )
         .output()
         .unwrap();
     std::fs::remove_dir_all(&dir).ok();

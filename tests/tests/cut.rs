@@ -382,6 +382,8 @@ fn topics_are_chosen_by_their_formats_and_a_window_past_the_end_keeps_the_defini
         .write(&bytes, &mut out)
         .unwrap();
     assert_eq!(s.rows, 0);
+    // Where the data was, for a caller to say so.
+    assert_eq!(s.data_times, Some((1_000, 3_000)));
     let cut = ULog::parse(&out).unwrap();
     assert!(cut.findings().is_empty(), "{:?}", cut.findings());
     assert_eq!(cut.subscriptions().len(), 2);
@@ -392,6 +394,28 @@ fn topics_are_chosen_by_their_formats_and_a_window_past_the_end_keeps_the_defini
         ("P_ONE", "2".into())
     );
     assert!(cut.param_changes().is_empty());
+
+    // A window that holds no time: refused before anything is read or written.
+    for (start, end) in [(2_000, 1_000), (2_000, 2_000)] {
+        let mut out = Vec::new();
+        let err = Edit::new()
+            .window(Some(start), Some(end))
+            .write(&bytes, &mut out)
+            .unwrap_err();
+        assert_eq!(
+            err.kind(),
+            &ulog_core::write::WriteErrorKind::EmptyWindow { start, end },
+            "{err}"
+        );
+        assert!(out.is_empty());
+    }
+    // One microsecond is a window.
+    let mut out = Vec::new();
+    let s = Edit::new()
+        .window(Some(2_000), Some(2_001))
+        .write(&bytes, &mut out)
+        .unwrap();
+    assert_eq!(s.rows, 2);
 
     // The header's timestamp replaced.
     let mut out = Vec::new();

@@ -799,3 +799,165 @@ fn formats_compare_by_content_not_by_spacing() {
     assert_eq!(log.subscriptions().len(), 1);
     assert_eq!(values(&log, "t", 0, "v"), ["1", "2"]);
 }
+
+/// A power-loss log: a good log in which SD blocks (4 KiB, at multiples of 4 KiB in the
+/// file) were never written and read as zeros. The data message whose header was
+/// written before a block but whose payload runs into it (all of it, from its msg_id,
+/// from its timestamp's third byte, from its last field) is damage, not a row: it is
+/// reported with the zeros after it, from its header to the first message after the
+/// block (`Corruption::CutByZeroFill`). Every message wholly outside the blocks is
+/// kept, those in a written sector between two blocks included; a row whose own
+/// trailing zero bytes meet a block that starts right after it is kept; and the
+/// incremental reader takes the same decisions in any chunks.
+#[test]
+fn a_message_cut_by_an_unwritten_block_is_damage_and_every_whole_row_is_kept() {
+    const BLOCK: usize = 4096;
+    let mut b = base();
+    let first = b.boundaries().len() - 1;
+    // Rows of 17 bytes: their starts go through every residue modulo 4096. `v` is
+    // small, so most payloads end in zero bytes of their own.
+    for i in 0..5000u32 {
+        b.data(0, &t_payload(1_000_000 + 1_000 * u64::from(i) + 34, i));
+    }
+    let starts = &b.boundaries()[first..b.boundaries().len() - 1];
+    let ends = &b.boundaries()[first + 1..];
+    let good = b.bytes().to_vec();
+    // The row whose payload's `d`-th byte starts a block, after row `after`.
+    let at = |d: usize, after: usize| -> usize {
+        (after..starts.len())
+            .find(|&i| (starts[i] + 3 + d).is_multiple_of(BLOCK))
+            .unwrap()
+    };
+    struct Case {
+        what: &'static str,
+        blocks: Vec<(usize, usize)>,
+        /// The first row of each damaged stretch (the cut row), when one is cut.
+        cut: Vec<usize>,
+    }
+    let mut cases = Vec::new();
+    for (d, what) in [
+        (0, "payload all zeros"),
+        (2, "from the timestamp on: timestamp 0"),
+        (4, "from the timestamp's third byte: timestamp 34"),
+        (13, "only the last byte of the payload"),
+    ] {
+        let i = at(d, 100);
+        let block = starts[i] + 3 + d;
+        cases.push(Case {
+            what,
+            blocks: vec![(block, block + BLOCK)],
+            cut: vec![i],
+        });
+    }
+    // Two blocks with one written sector between them: its whole rows are kept, the
+    // one it cuts at its end is not.
+    let i = at(6, 100);
+    let first_block = starts[i] + 3 + 6;
+    let island_end = first_block + BLOCK + 512;
+    let j = (0..starts.len())
+        .find(|&j| starts[j] < island_end && ends[j] > island_end)
+        .unwrap();
+    cases.push(Case {
+        what: "an island of one written sector",
+        blocks: vec![
+            (first_block, first_block + BLOCK),
+            (island_end, island_end + BLOCK),
+        ],
+        cut: vec![i, j],
+    });
+    // A block that starts right where a row ends: the row's own trailing zeros meet
+    // it, but it was written whole.
+    let k = (100..starts.len())
+        .find(|&k| ends[k].is_multiple_of(BLOCK))
+        .unwrap();
+    assert!(
+        good[ends[k] - 2..ends[k]] == [0, 0],
+        "row {k} ends in zeros"
+    );
+    cases.push(Case {
+        what: "a block right after a whole row",
+        blocks: vec![(ends[k], ends[k] + BLOCK)],
+        cut: vec![],
+    });
+
+    for case in cases {
+        let what = case.what;
+        let mut bytes = good.clone();
+        for &(a, z) in &case.blocks {
+            bytes[a..z].fill(0);
+        }
+        let log = ULog::parse(&bytes).unwrap();
+        let whole = |r: usize| {
+            case.blocks
+                .iter()
+                .all(|&(a, z)| ends[r] <= a || starts[r] >= z)
+        };
+        let expected: Vec<String> = (0..starts.len())
+            .filter(|&r| whole(r))
+            .map(|r| r.to_string())
+            .collect();
+        let got = values(&log, "t", 0, "v");
+        assert!(
+            got == expected,
+            "{what}: rows read that are not whole: {:?}; whole rows lost: {:?}",
+            got.iter()
+                .filter(|v| !expected.contains(v))
+                .collect::<Vec<_>>(),
+            expected
+                .iter()
+                .filter(|v| !got.contains(v))
+                .collect::<Vec<_>>()
+        );
+        assert!(
+            expected.len() >= starts.len() - 2 * (BLOCK / 17 + 2),
+            "{what}"
+        );
+        let found: Vec<_> = log
+            .findings()
+            .iter()
+            .map(|f| (f.kind.clone(), f.offset, f.len))
+            .collect();
+        let stretches: Vec<_> = case
+            .blocks
+            .iter()
+            .map(|&(a, z)| {
+                let next = starts.iter().copied().find(|&s| s >= z).unwrap();
+                match case.cut.iter().find(|&&r| starts[r] < a && ends[r] > a) {
+                    Some(&r) => (
+                        FindingKind::Corrupt(Corruption::CutByZeroFill),
+                        starts[r] as u64,
+                        (next - starts[r]) as u64,
+                    ),
+                    None => (
+                        FindingKind::Corrupt(Corruption::ZeroFill),
+                        a as u64,
+                        (next - a) as u64,
+                    ),
+                }
+            })
+            .collect();
+        assert_eq!(found, stretches, "{what}");
+        assert_eq!(stretches.len(), case.blocks.len());
+
+        // The incremental reader, in any chunks, and the one-pass scan agree.
+        let whole_log: Vec<_> = log.messages().map(Result::unwrap).collect();
+        for chunk in [1usize, 17, 512, 4096, 65536] {
+            let mut inc = PushReader::new();
+            let mut got = Vec::new();
+            let mut take = |inc: &mut PushReader| {
+                while inc.advance().unwrap() == Progress::Ready {
+                    got.push(inc.current().unwrap().offset);
+                }
+            };
+            for c in bytes.chunks(chunk) {
+                inc.push(c);
+                take(&mut inc);
+            }
+            inc.finish();
+            take(&mut inc);
+            let expect: Vec<u64> = whole_log.iter().map(|m| m.offset).collect();
+            assert_eq!(got, expect, "{what}: chunk {chunk}");
+            assert_eq!(inc.findings(), log.findings(), "{what}: chunk {chunk}");
+        }
+    }
+}

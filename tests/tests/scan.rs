@@ -153,11 +153,12 @@ struct SensorCombined {
     accelerometer_m_s2: [f32; 3],
 }
 
-/// `esc_status` with a field type no log has: a mismatch to report.
+/// `esc_status` with a field type no log has and none widens to (`esc_count` is a
+/// `uint8_t`, which `i8` cannot hold every value of): a mismatch to report.
 #[derive(ULogMessage, Debug, Clone, Copy)]
 struct EscStatus {
     timestamp: u64,
-    esc_count: u64,
+    esc_count: i8,
 }
 
 #[derive(ULogTopics, Debug)]
@@ -251,13 +252,13 @@ fn scan_topics_is_the_file_order_walk() {
         let walked = index_walk(&log);
         let all = ScanOptions::default().raw_others(true);
         let mut of_log: Vec<String> = Vec::new();
-        ulog_core::scan_topics::<Topics, _, _>(&log, &all, |r| of_log.push(walk_text(&r))).unwrap();
+        ulog_core::scan_topics::<Topics>(&log, &all, |r| of_log.push(walk_text(&r))).unwrap();
         assert_eq!(of_log.len(), walked.len(), "{name}: of the parsed log");
         for (i, (s, w)) in of_log.iter().zip(&walked).enumerate() {
             assert_eq!(s, w, "{name}: record {i} of the parsed log");
         }
         let mut scanned = Vec::new();
-        ulog_core::scan_topics::<Topics, _, _>(&bytes, &all, |r| {
+        ulog_core::scan_topics::<Topics>(&bytes, &all, |r| {
             if let Ok(ulog_core::TopicRecord {
                 message: Some(message),
                 ..
@@ -301,18 +302,15 @@ fn scan_topics_only_is_scan_topics_without_the_raw_records() {
         let mut offsets = Vec::new();
         let Ok(all) = ulog_core::scan(&bytes, &ScanOptions::default(), |r| offsets.push(r.offset))
         else {
-            assert!(ulog_core::scan_topics::<Topics, _, _>(
-                &bytes,
-                &ScanOptions::default(),
-                |_| {}
-            )
-            .is_err());
+            assert!(
+                ulog_core::scan_topics::<Topics>(&bytes, &ScanOptions::default(), |_| {}).is_err()
+            );
             continue;
         };
         let mut expected = Vec::new();
         let mut records = offsets.iter();
         let raw_others = ScanOptions::default().raw_others(true);
-        let full = ulog_core::scan_topics::<Topics, _, _>(&bytes, &raw_others, |r| match r {
+        let full = ulog_core::scan_topics::<Topics>(&bytes, &raw_others, |r| match r {
             Ok(r) => {
                 let offset = records.next().unwrap();
                 assert_eq!(r.offset, *offset, "{name}");
@@ -327,7 +325,7 @@ fn scan_topics_only_is_scan_topics_without_the_raw_records() {
         assert!(records.next().is_none(), "{name}");
         let mut only = Vec::new();
         let summary =
-            ulog_core::scan_topics::<Topics, _, _>(&bytes, &ScanOptions::default(), |r| match r {
+            ulog_core::scan_topics::<Topics>(&bytes, &ScanOptions::default(), |r| match r {
                 Ok(m) => {
                     decoded += 1;
                     let message = m.message.expect("only named topics are handed out");

@@ -81,7 +81,10 @@ fn an_absent_required_field_is_still_a_difference() {
         .collect();
     assert_eq!(
         d,
-        [("satellites_used", &DifferenceKind::MissingField)],
+        [(
+            "satellites_used",
+            &DifferenceKind::MissingField { closest: None }
+        )],
         "only the required field: {m}"
     );
     assert_eq!(m.binding, "GpsFix");
@@ -310,19 +313,20 @@ fn a_name_not_in_the_log_suggests_the_topics_and_says_where_it_came_from() {
     );
 }
 
-/// Every difference at every depth, once each, with paths.
+/// Every difference at every depth, once each, with paths (types the log's do not
+/// widen to: a lossless widening is not a difference).
 #[derive(ULogMessage, Debug)]
 #[ulog(name = "esc_status")]
 struct EscWrong {
     timestamp: u64,
     esc: [EscWrongReport; 4],
-    count: u16,
+    count: i8,
 }
 
 #[derive(ULogMessage, Debug)]
 #[ulog(name = "esc_report")]
 struct EscWrongReport {
-    esc_rpm: i32,
+    esc_rpm: i8,
     esc_voltage: f32,
     esc_current: f32,
 }
@@ -342,9 +346,9 @@ fn a_mismatch_lists_every_difference_at_every_depth_once() {
         d,
         [
             "field `esc`: an array of 4 expected, the log has an array of 8",
-            "field `esc[*].esc_rpm`: type `int32_t` expected, the log has `int16_t`",
-            "field `esc[*].esc_current`: missing in the log",
-            "field `count`: type `uint16_t` expected, the log has `uint8_t`",
+            "field `esc[*].esc_rpm`: type `int8_t` expected, the log has `int16_t` (which does not widen to it without loss: declare a conversion, `#[ulog(convert(int16_t = path::to::function))]`)",
+            "field `esc[*].esc_current`: missing in the log; if some firmware lacks it, make it `Option<_>` or give it #[ulog(default)]",
+            "field `count`: type `int8_t` expected, the log has `uint8_t` (which does not widen to it without loss: declare a conversion, `#[ulog(convert(uint8_t = path::to::function))]`)",
         ]
     );
     let text = m.to_string();

@@ -58,7 +58,7 @@ fn log() -> Vec<u8> {
 /// (topic, timestamp, value) of each record handed out.
 fn order(bytes: &[u8], options: &ScanOptions) -> Vec<(String, Option<u64>, Option<u32>)> {
     let mut out = Vec::new();
-    scan_topics::<Topics, _, _>(bytes, options, |r| {
+    scan_topics::<Topics>(bytes, options, |r| {
         let r = r.unwrap();
         let v = match r.message {
             Some(Topics::Fast(f)) => Some(f.v),
@@ -105,12 +105,12 @@ fn by_timestamp_untimed_records_stay_where_they_stand_in_the_file() {
     // The same through a parsed log and through a reader (read into memory first).
     let log = ULog::parse(&bytes).unwrap();
     let mut from_log = Vec::new();
-    scan_topics::<Topics, _, _>(&log, &by_time, |r| {
+    scan_topics::<Topics>(&log, &by_time, |r| {
         from_log.push(r.map(|r| (r.offset, r.timestamp)).ok())
     })
     .unwrap();
     let mut from_reader = Vec::new();
-    scan_topics::<Topics, _, _>(Source::reader(&bytes[..]), &by_time, |r| {
+    scan_topics::<Topics>(Source::reader(&bytes[..]), &by_time, |r| {
         from_reader.push(r.map(|r| (r.offset, r.timestamp)).ok())
     })
     .unwrap();
@@ -137,7 +137,7 @@ fn in_file_order_records_carry_their_timestamps_and_unnamed_topics_are_left_out(
 #[ulog(name = "fast")]
 struct FastWrong {
     timestamp: u64,
-    v: f64,
+    v: f32,
 }
 
 /// Its `Fast` variant never fits the log: it is never read.
@@ -156,7 +156,7 @@ fn a_topic_that_does_not_fit_is_reported_once_and_the_others_go_on() {
         ScanOptions::default().order(ScanOrder::Timestamp),
     ] {
         let (mut errors, mut slow) = (Vec::new(), 0);
-        scan_topics::<Wrong, _, _>(&bytes, &options, |r| match r {
+        scan_topics::<Wrong>(&bytes, &options, |r| match r {
             Ok(r) => {
                 assert!(matches!(r.message, Some(Wrong::Slow(_))));
                 slow += 1;
@@ -175,7 +175,7 @@ fn a_topic_that_does_not_fit_is_reported_once_and_the_others_go_on() {
 fn a_pass_stops_when_the_callback_says_so() {
     let bytes = log();
     let mut seen = 0;
-    let summary = scan_topics::<Topics, _, _>(&bytes, &ScanOptions::default(), |_| {
+    let summary = scan_topics::<Topics>(&bytes, &ScanOptions::default(), |_| {
         seen += 1;
         if seen == 3 {
             ControlFlow::Break(())

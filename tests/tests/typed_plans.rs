@@ -116,7 +116,7 @@ fn every_difference_is_listed_with_both_formats() {
     let file = layout(
         &[
             "point:float x;uint8_t flag;uint8_t[3] _padding0;",
-            "all_types:uint64_t timestamp;float a;int8_t b;uint16_t[2] m;point p;uint8_t q;",
+            "all_types:uint64_t timestamp;float a;int8_t b;uint16_t[4] m;point p;uint8_t q;",
         ],
         "all_types",
     );
@@ -133,12 +133,14 @@ fn every_difference_is_listed_with_both_formats() {
             found: "float".into()
         }
     )));
-    assert!(kinds.contains(&("c", &DifferenceKind::MissingField)));
+    assert!(kinds
+        .iter()
+        .any(|(p, k)| *p == "c" && matches!(k, DifferenceKind::MissingField { .. })));
     assert!(kinds.contains(&(
         "m",
         &DifferenceKind::ArrayLength {
             expected: Some(3),
-            found: Some(2)
+            found: Some(4)
         }
     )));
     assert!(kinds.contains(&(

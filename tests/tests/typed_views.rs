@@ -3,7 +3,7 @@
 //! every corpus log, through view bindings generated from the log itself.
 
 use ulog_core::testing::LogBuilder;
-use ulog_core::typed::{le, ByteBool, DecodeErrorKind, PlanKind, TypedErrorKind};
+use ulog_core::typed::{le, ByteBool, PlanKind, TypedErrorKind};
 use ulog_core::{ULog, ULogMessage};
 
 /// `vehicle_attitude` as PX4 v1.14 defines it, without the trailing padding PX4 never
@@ -81,7 +81,7 @@ fn a_binding_without_the_trailing_padding_borrows_every_row() {
         let log = ULog::parse(&bytes).unwrap();
         let rows = log.read::<Attitude>(0).unwrap();
         assert_eq!(rows.plan().kind(), PlanKind::Exact);
-        let views: Vec<&Attitude> = rows.views().map(Result::unwrap).collect();
+        let views: Vec<&Attitude> = rows.views().unwrap().map(Result::unwrap).collect();
         assert_eq!(views.len(), 50);
         for (i, v) in views.iter().enumerate() {
             assert_eq!(v.timestamp.get(), 1000 + i as u64);
@@ -97,45 +97,125 @@ fn a_binding_without_the_trailing_padding_borrows_every_row() {
         // A prefix of the fields borrows too.
         let head = log.read::<AttitudeHead>(0).unwrap();
         assert_eq!(head.plan().kind(), PlanKind::Exact);
-        assert_eq!(head.views().filter(Result::is_ok).count(), 50);
+        assert_eq!(head.views().unwrap().filter(Result::is_ok).count(), 50);
     }
 }
 
 #[test]
-fn a_row_that_cannot_be_borrowed_says_why() {
+fn rows_that_cannot_be_borrowed_are_refused_once_with_why() {
     // The trailing padding declared, the log without it (as PX4 writes it).
     let bytes = attitude_log(false);
     let log = ULog::parse(&bytes).unwrap();
     let rows = log.read::<AttitudePadded>(0).unwrap();
     assert_eq!(rows.plan().kind(), PlanKind::Exact);
-    let e = rows.views().next().unwrap().unwrap_err();
-    let TypedErrorKind::Decode(d) = e.kind() else {
+    let Err(e) = rows.views() else {
+        panic!("rows without the padding are borrowed as a binding with it")
+    };
+    let TypedErrorKind::NoView { binding, why } = e.kind() else {
         panic!("{e}")
     };
-    assert_eq!(
-        d.kind,
-        DecodeErrorKind::ViewNeedsLongerPayload { needed: 56 }
-    );
+    assert_eq!(binding, "AttitudePadded");
+    assert!(why.contains("50 of 50 rows"), "{why}");
     assert!(e.to_string().contains("leave the trailing padding"), "{e}");
+    assert_eq!(e.topic(), Some(("vehicle_attitude", 0)));
     // Decoding (a copy) still reads it.
     assert_eq!(rows.iter().filter(Result::is_ok).count(), 50);
+    // The same binding borrows a log that does write the padding.
+    let padded = attitude_log(true);
+    let log_padded = ULog::parse(&padded).unwrap();
+    let rows = log_padded.read::<AttitudePadded>(0).unwrap();
+    assert_eq!(rows.views().unwrap().filter(Result::is_ok).count(), 50);
 
     let moved = log.read::<AttitudeMoved>(0).unwrap();
     assert_eq!(moved.plan().kind(), PlanKind::Mapped);
-    let e = moved.views().next().unwrap().unwrap_err();
-    let TypedErrorKind::Decode(d) = e.kind() else {
-        panic!("{e}")
+    let Err(e) = moved.views() else {
+        panic!("a mapped plan is borrowed")
     };
-    assert!(matches!(
-        d.kind,
-        DecodeErrorKind::ViewNeedsExactLayout { .. }
-    ));
+    assert!(matches!(e.kind(), TypedErrorKind::NoView { .. }), "{e}");
     assert!(
         e.to_string()
             .contains("field `q` is at byte 16 of the log's payload, 8 of the binding"),
         "{e}"
     );
+    assert!(
+        e.to_string().contains("`iter()` decodes them by copy"),
+        "{e}"
+    );
     assert_eq!(moved.iter().filter(Result::is_ok).count(), 50);
+}
+
+/// The view of `TypedRows::views`'s documentation: `vehicle_attitude` as PX4 logs it
+/// from v1.13 on, up to `q`.
+#[derive(ULogMessage, Debug)]
+#[ulog(view)]
+#[repr(C)]
+struct VehicleAttitude {
+    timestamp: le::U64,
+    timestamp_sample: le::U64,
+    q: [le::F32; 4],
+}
+
+/// On every corpus log, the documentation's view borrows every row where the log's
+/// format begins as it does (PX4 v1.13 on); the older firmware has no
+/// `timestamp_sample` (v1.9 and older: rates before `q`; v1.11: `q` after
+/// `timestamp`), so the binding does not fit them at all. The borrowed values are the
+/// reader's own by path.
+#[test]
+#[cfg_attr(
+    not(full_corpus),
+    ignore = "needs the full corpus (../shared/corpus): its logs of PX4 v1.13 and later"
+)]
+fn the_documented_view_borrows_the_logs_of_its_firmware() {
+    const PREFIX: &str =
+        "vehicle_attitude:uint64_t timestamp;uint64_t timestamp_sample;float[4] q;";
+    let (mut borrowed, mut older) = (0, 0);
+    for path in ulog_tests::corpus_files() {
+        let file = ulog_core::LogFile::open(&path).unwrap();
+        let Ok(log) = file.parse() else { continue };
+        let Ok(instances) = log.read_instances::<VehicleAttitude>() else {
+            continue;
+        };
+        for rows in instances {
+            let rows = match rows {
+                Ok(rows) => rows,
+                Err(e) => {
+                    assert!(
+                        e.to_string().contains("field `timestamp_sample`: missing"),
+                        "{e}"
+                    );
+                    older += 1;
+                    continue;
+                }
+            };
+            let format = rows
+                .topic()
+                .subscription()
+                .layout()
+                .unwrap()
+                .format()
+                .to_string();
+            match rows.views() {
+                Ok(views) => {
+                    assert!(format.starts_with(PREFIX), "{}: {format}", path.display());
+                    let q0 = rows.topic().field("q[0]").unwrap();
+                    for (i, v) in views.enumerate() {
+                        let v = v.unwrap();
+                        let payload = rows.topic().payload(i).unwrap();
+                        assert_eq!(
+                            q0.read(payload),
+                            Some(ulog_core::Value::F32(v.q[0].get())),
+                            "{}",
+                            path.display()
+                        );
+                        borrowed += 1;
+                    }
+                }
+                Err(e) => panic!("{}: {e}", path.display()),
+            };
+        }
+    }
+    eprintln!("documented view: {borrowed} rows borrowed; {older} instances of older firmware");
+    assert!(borrowed > 0 && older > 0);
 }
 
 /// A `bool` in a view, as its byte.
@@ -156,7 +236,7 @@ fn bools_are_borrowed_as_their_byte() {
     b.data(0, &[&5u64.to_le_bytes()[..], &[2, 7]].concat());
     let log = ULog::parse(b.bytes()).unwrap();
     let rows = log.read::<Flags>(0).unwrap();
-    let v = rows.views().next().unwrap().unwrap();
+    let v = rows.views().unwrap().next().unwrap().unwrap();
     assert!(v.armed.get(), "any byte but 0 is true");
     assert_eq!(v.mode, 7);
     let mut seen = Vec::new();

@@ -17,11 +17,12 @@ struct BatteryStatus {
     voltage_v: f32,
 }
 
-/// `esc_status` with a field type the log does not have.
+/// `esc_status` with a field type the log does not have and that its `uint8_t` does
+/// not widen to.
 #[derive(ULogMessage, Debug, Clone, Copy)]
 struct EscStatus {
     timestamp: u64,
-    esc_count: u16,
+    esc_count: i8,
 }
 
 #[derive(ULogTopics, Debug)]
@@ -50,7 +51,7 @@ fn walk<E: ULogTopics>(
     mut f: impl FnMut(Result<TopicRecord<'_, E>, ulog_core::TypedError>),
 ) {
     let options = ScanOptions::default().order(order).raw_others(true);
-    ulog_core::scan_topics::<E, _, _>(log, &options, |r| f(r)).unwrap();
+    ulog_core::scan_topics::<E>(log, &options, |r| f(r)).unwrap();
 }
 
 fn timestamp(log: &ULog<'_>, r: &Walked) -> u64 {

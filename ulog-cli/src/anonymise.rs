@@ -9,16 +9,24 @@ use crate::input;
 
 /// Write a copy of a log to share: the information keys that identify the vehicle left
 /// out (`sys_uuid`, `sys_mcu`, `ver_hw_subtype`, the boot console output), every
-/// position (`lat`/`lon`, `latitude`/`longitude`, `latitude_deg`/`longitude_deg`,
-/// `ref_lat`/`ref_lon`, in any topic, nested ones too; the position parameters of
-/// `vehicle_command`s that take one) moved by one rotation of the
-/// Earth that takes the first position to `--to` (0° N 0° E by default), which keeps
-/// every distance and the flight's shape, and the raw receiver topics (`gps_dump`,
-/// `gps_inject_data`) left out. Everything else is kept byte for byte; damaged
-/// stretches are not copied.
+/// position moved by one rotation of the Earth that takes the first position to
+/// `--to` (0° N 0° E by default), which keeps every distance and the flight's shape,
+/// and the raw receiver topics (`gps_dump`, `gps_inject_data`) left out. Everything
+/// else is kept byte for byte; damaged stretches are not copied.
+///
+/// A position is what a value holds: the fields named as one (`lat`/`lon`,
+/// `latitude`/`longitude`, `ref_lat`/`ref_lon`… in any topic, nested ones too; the
+/// position parameters of `vehicle_command`s that take one) and the parameters named
+/// as a pair (`LPE_LAT`/`LPE_LON`) say where the log was; any two numbers of a row,
+/// of the parameters or of the information that hold a latitude and a longitude
+/// within 0.05° of those places (in degrees, radians or 1e-7 degrees) are moved too,
+/// whatever their names, and so are such numbers in logged strings and other text.
+/// Positions farther from every place named as one, in other units, or in raw bytes
+/// are not found.
 ///
 /// `--zero-utc` also leaves out the wall-clock keys (`time_ref_utc`,
-/// `boot_time_utc_us`) and zeroes the GPS time fields (`time_utc_usec`);
+/// `boot_time_utc_us`), zeroes the GPS time fields (`time_utc_usec`) and writes zeros
+/// for every date and time of day in text and in PX4 events (the log file's name);
 /// `--zero-start` writes 0 as the header's timestamp; `--keep` keeps keys of those
 /// lists.
 #[derive(Debug, clap::Args)]
@@ -38,7 +46,8 @@ pub struct Args {
     /// Keep these keys (comma-separated) of those left out.
     #[arg(long, value_name = "KEYS")]
     keep: Option<String>,
-    /// Also leave out the wall-clock keys and zero the GPS time fields.
+    /// Also leave out the wall-clock keys, zero the GPS time fields and the dates and
+    /// times written in text.
     #[arg(long)]
     zero_utc: bool,
     /// Write 0 as the log's start time (the header's timestamp, time since boot);
@@ -72,7 +81,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         anonymise = anonymise.keep(keys.split(',').filter(|k| !k.is_empty()));
     }
     let edit = anonymise.edit(&log);
-    crate::cut::write_edit(&name, &args.file, &args.output, (&log).into(), edit)
+    crate::cut::write_edit(&name, &args.file, &args.output, (&log).into(), edit, |_| {
+        None
+    })
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value as Json};
 use ulog_core::events::{EventFinding, EventOptions};
-use ulog_core::read::{FindingKind, Unwrapper};
+use ulog_core::read::{FindingKind, OutlierSide, Unwrapper};
 use ulog_core::ULog;
 
 use crate::describe::kind_name;
@@ -22,21 +22,24 @@ Severities:
   warning  departures from the spec that lose nothing: unknown message types, no flag
            bits message in a version 1 log, redefined formats, subscriptions to unknown
            formats, timestamps that go backwards or jump (per topic instance), invalid
-           log levels, unknown compatible flag bits, bad appended offsets
+           log levels, unknown compatible flag bits, bad appended offsets, the
+           DEFAULT_PARAMETERS flag with no default parameter logged
            PX4 event metadata that cannot be used, events it does not define
-  note     facts worth knowing: dropouts, appended data, parameters without a default,
-           events without metadata in the log, events logged at error level or worse
+  note     facts worth knowing: dropouts, appended data, events without metadata in
+           the log, events logged at error level or worse, rows stamped far outside
+           the log's time span (stamped_before_start, stamped_after_end,
+           timestamp_unset: `ulog info` says what the span is)
 Exit status: 0 when every file is free of errors and warnings, 1 when one has any,
 3 when a file cannot be read, 4 when one is not a ULog log (the highest applies).
 
 JSON (--json): {\"files\": [{file, status (ok, warnings, damaged, refused, unreadable),
-error (refused/unreadable only), messages, topics, duration_s, errors, warnings, notes,
+error (refused/unreadable only), messages, topics, duration_s (the log's span), errors, warnings, notes,
 problems: [{severity, kind, offset, len, topic, multi_id, text}]}], \"exit_status\": N}";
 
 /// Check each log against the ULog spec and report its damage: truncation, corruption
 /// with byte ranges, unknown message types, size mismatches, formats that do not parse,
-/// timestamps that go backwards or jump per topic, parameters without defaults, and
-/// more (see below). Prints a summary line per file, then its problems.
+/// timestamps that go backwards or jump per topic, and more (see below). Prints a
+/// summary line per file, then its problems.
 #[derive(Debug, clap::Args)]
 #[command(
     about = "Check logs against the ULog spec and report their damage",
@@ -44,8 +47,9 @@ problems: [{severity, kind, offset, len, topic, multi_id, text}]}], \"exit_statu
     after_help = AFTER_HELP
 )]
 pub struct Args {
-    /// The ULog files.
-    #[arg(required = true)]
+    /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) in a
+    /// directory and its subdirectories is checked.
+    #[arg(required = true, value_name = "FILE_OR_DIR")]
     files: Vec<PathBuf>,
     /// Print one JSON document instead (keys below).
     #[arg(long)]
@@ -151,6 +155,7 @@ pub fn examine(log: &ULog<'_>) -> Vec<Problem> {
         }
     }
     timestamp_problems(log, &mut out);
+    span_problems(log, &mut out);
     let drops = log.dropouts();
     if !drops.is_empty() {
         let total: u64 = drops.iter().map(|d| u64::from(d.duration_ms)).sum();
@@ -205,55 +210,69 @@ fn events_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
     }
 }
 
-/// Seconds of `timestamp` since the log's start.
+/// Seconds of `timestamp` since the log's start (its span's).
 fn seconds(log: &ULog<'_>, timestamp: u64) -> f64 {
-    timestamp.saturating_sub(log.start_timestamp()) as f64 / 1e6
+    timestamp.saturating_sub(log.span().start()) as f64 / 1e6
 }
 
-fn defaults_problem(log: &ULog<'_>, out: &mut Vec<Problem>) {
-    let params = log.initial_params();
-    if params.is_empty() {
-        return;
-    }
-    let defaults: std::collections::HashSet<String> = log
-        .default_params()
-        .iter()
-        .map(|d| d.kv.name().into_owned())
-        .collect();
-    let flagged = log.flag_bits().is_some_and(|f| f.has_default_parameters());
-    if defaults.is_empty() && !flagged {
-        out.push(Problem::new(
-            Severity::Note,
-            "no_default_parameters",
-            format!(
-                "none of the {} parameters has a default value logged",
-                params.len()
+/// Rows far outside the log's span ([`ulog_core::read::TimeSpan`]): notes, as the
+/// rows are data like any other (kept, and read by every reader); the note says why
+/// time axes place them at the start or leave them out.
+fn span_problems(log: &ULog<'_>, out: &mut Vec<Problem>) {
+    let subscriptions = log.subscriptions();
+    for o in log.span().outliers() {
+        let Some(sub) = subscriptions.get(o.subscription) else {
+            continue;
+        };
+        let id = format!("{}({})", sub.name(), sub.multi_id());
+        let rows = match o.rows {
+            1 => "1 row".to_owned(),
+            n => format!("{n} rows"),
+        };
+        let stamped = match (o.earliest, o.latest) {
+            (0, 0) => "stamped 0 (never set)".to_owned(),
+            (a, b) if a == b => format!("stamped {a} us"),
+            (a, b) => format!("stamped {a} to {b} us"),
+        };
+        let (kind, text) = match o.side {
+            OutlierSide::BeforeStart if o.latest == 0 => (
+                "timestamp_unset",
+                format!("{id}: {rows} {stamped}; time axes leave them out"),
             ),
-        ));
-        return;
+            OutlierSide::BeforeStart => (
+                "stamped_before_start",
+                format!(
+                    "{id}: {rows} {stamped}, {:.1} s before the log's start at {} us \
+                     (values made before logging began); time axes place them at the start",
+                    o.earliest.abs_diff(log.span().start()) as f64 / 1e6,
+                    log.span().start()
+                ),
+            ),
+            _ => (
+                "stamped_after_end",
+                format!(
+                    "{id}: {rows} {stamped}, beyond the log's span (which ends at {} us); \
+                     time axes leave them out",
+                    log.span().end()
+                ),
+            ),
+        };
+        let mut p = Problem::new(Severity::Note, kind, text).at(o.offset);
+        p.topic = Some((sub.name().to_owned(), sub.multi_id()));
+        out.push(p);
     }
-    if defaults.is_empty() {
+}
+
+/// The one departure about defaults: the `DEFAULT_PARAMETERS` flag set with no default
+/// logged. A log with defaults for only some parameters, or none without the flag, is
+/// what the spec allows (a parameter's default is then its value): not a finding.
+fn defaults_problem(log: &ULog<'_>, out: &mut Vec<Problem>) {
+    let flagged = log.flag_bits().is_some_and(|f| f.has_default_parameters());
+    if flagged && log.default_params().is_empty() {
         out.push(Problem::new(
             Severity::Warning,
             "no_default_parameters",
             "the DEFAULT_PARAMETERS flag is set but no default parameter is logged".into(),
-        ));
-        return;
-    }
-    let missing: Vec<String> = params
-        .iter()
-        .map(|p| p.name().into_owned())
-        .filter(|n| !defaults.contains(n))
-        .collect();
-    if let Some(first) = missing.first() {
-        out.push(Problem::new(
-            Severity::Note,
-            "parameters_without_default",
-            format!(
-                "{} of {} parameters have no default value logged (first: {first})",
-                missing.len(),
-                params.len()
-            ),
         ));
     }
 }
@@ -348,24 +367,27 @@ impl Report {
     }
 }
 
+/// The report of an input that could not be read or is not a log.
+fn failed(file: String, f: Failure) -> Report {
+    let (status, error) = match f {
+        Failure::Message(s, m) => {
+            let prefix = format!("{file}: ");
+            (s, m.strip_prefix(&prefix).map_or(m.clone(), str::to_owned))
+        }
+        Failure::BrokenPipe => (Status::Other, "broken pipe".to_owned()),
+    };
+    Report {
+        file,
+        status,
+        error: Some(error),
+        summary: None,
+        problems: Vec::new(),
+    }
+}
+
 fn check_file(path: &Path) -> Report {
     let file = path.display().to_string();
-    let failed = |f: Failure| {
-        let (status, error) = match f {
-            Failure::Message(s, m) => {
-                let prefix = format!("{file}: ");
-                (s, m.strip_prefix(&prefix).map_or(m.clone(), str::to_owned))
-            }
-            Failure::BrokenPipe => (Status::Other, "broken pipe".to_owned()),
-        };
-        Report {
-            file: file.clone(),
-            status,
-            error: Some(error),
-            summary: None,
-            problems: Vec::new(),
-        }
-    };
+    let failed = |f: Failure| failed(file.clone(), f);
     let mapped = match input::open(path) {
         Ok(m) => m,
         Err(f) => return failed(f),
@@ -380,7 +402,7 @@ fn check_file(path: &Path) -> Report {
     } else {
         Status::Ok
     };
-    let duration = log.last_timestamp().saturating_sub(log.start_timestamp()) as f64 / 1e6;
+    let duration = log.span().duration_s();
     Report {
         file,
         status,
@@ -483,13 +505,29 @@ fn report_json(r: &Report) -> Json {
 
 /// Runs the check; the exit status is the worst of all files (see `--help`).
 pub fn run(args: &Args) -> Result<Status, Failure> {
-    let progress = Progress::new(args.files.len() as u64, "check files");
+    // Directories are searched as `ulog parquet` searches them; an input that is
+    // missing, or a directory without logs, is a file that could not be read.
+    let inputs: Vec<Result<PathBuf, Report>> = args
+        .files
+        .iter()
+        .flat_map(|input| match input::logs_in(input) {
+            Ok(logs) => logs.into_iter().map(|(path, _)| Ok(path)).collect(),
+            Err(f) => vec![Err(failed(input.display().to_string(), f))],
+        })
+        .collect();
+    let count = inputs.len();
+    let progress = Progress::new(count as u64, "check files");
     let mut out = BufWriter::new(io::stdout().lock());
     let mut worst = Status::Ok;
     let mut all = Vec::new();
-    for path in &args.files {
-        progress.message(path.display().to_string());
-        let r = check_file(path);
+    for input in inputs {
+        let r = match input {
+            Ok(path) => {
+                progress.message(path.display().to_string());
+                check_file(&path)
+            }
+            Err(r) => r,
+        };
         worst = worst.max(r.status);
         if args.json {
             all.push(report_json(&r));
@@ -503,8 +541,8 @@ pub fn run(args: &Args) -> Result<Status, Failure> {
         serde_json::to_writer_pretty(&mut out, &doc)
             .map_err(|e| Failure::io("stdout", &e.into()))?;
         writeln!(out).map_err(stdout_err)?;
-    } else if args.files.len() > 1 {
-        writeln!(out, "{} files checked", args.files.len()).map_err(stdout_err)?;
+    } else if count > 1 {
+        writeln!(out, "{count} files checked").map_err(stdout_err)?;
     }
     out.flush().map_err(stdout_err)?;
     Ok(worst)

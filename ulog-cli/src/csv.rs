@@ -14,8 +14,10 @@ use crate::input;
 use crate::progress::Progress;
 use crate::pyfmt::{format_i64, format_numpy_f32, format_numpy_f64, format_u64, NUM_LEN};
 
-/// Write every topic instance with data to `<file stem>_<topic>_<multi_id>.csv`
-/// (`/` in a topic name becomes `_`), exactly as pyulog's `ulog2csv` does: `timestamp`
+/// Write every topic instance with data to `<file stem>_<topic>_<multi_id>.csv`,
+/// exactly as pyulog's `ulog2csv` does (a topic name that a file system refuses or
+/// folds, such as `a/b`, `CON`, or `Foo` beside `foo`, is written as `a_b~` and a hash
+/// of the name: `ulog_core::naming`): `timestamp`
 /// first, then the fields in format order; arrays as `a[i]`, nested fields as `a.b` and
 /// `a[i].b`; `char[N]` as one text column (bytes up to the first NUL, one character per
 /// byte); the topic's own padding left out, that of nested types kept
@@ -50,11 +52,12 @@ pub struct Args {
     )]
     delimiter: String,
     /// Start at the first row whose timestamp is at or after this many seconds (as
-    /// ulog2csv: rows are a range from that row on, not a filter; 0 means from the start).
+    /// ulog2csv: rows are a range from that row on, not a filter; 0 means from the
+    /// start). ulog2csv's `-ts` is taken too.
     #[arg(long = "time-start", visible_alias = "time_s", value_name = "S")]
     time_start: Option<f64>,
     /// Stop before the first row whose timestamp is at or after this many seconds (0 or
-    /// absent: to the end).
+    /// absent: to the end). ulog2csv's `-te` is taken too.
     #[arg(long = "time-end", visible_alias = "time_e", value_name = "S")]
     time_end: Option<f64>,
     /// Add a column `timestamp_utc` after `timestamp`: the row's time in UTC (RFC 3339
@@ -65,6 +68,8 @@ pub struct Args {
     /// Files written at the same time (default: the number of CPUs).
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<NonZeroUsize>,
+    #[arg(short = 'i', long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
@@ -86,10 +91,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let stdout = io::stdout();
     let mut out = stdout.lock();
     let mut jobs = Vec::with_capacity(topics.len());
+    // pyulog's names, but for topic names that a file system refuses or folds.
+    let names = ulog_core::naming::LogNames::new(topics.iter().map(|t| t.name()));
     for topic in topics {
         let path = format!(
             "{prefix}_{}_{}.csv",
-            topic.name().replace('/', "_"),
+            names.file_part(topic.name()),
             topic.multi_id()
         );
         let columns = match columns(&topic, utc) {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use ulog_core::format::definitions::HEADER_SIZE;
 use ulog_core::read::{Header, Messages, ReadErrorKind};
-use ulog_core::write::WriteErrorKind;
+use ulog_core::write::{EditSummary, WriteErrorKind};
 use ulog_core::{Edit, Source};
 
 use crate::failure::{io_text, Failure, Status};
@@ -20,9 +20,9 @@ use crate::input;
 /// Damaged stretches of the input are not copied (a line on stderr says how many). pyulog,
 /// PlotJuggler and this reader read the result.
 ///
-/// Times are seconds since the log's start (its header timestamp): `90`, `1:30` or
-/// `1:30.5` (also `1:02:03`); `--start-us`/`--end-us` take the log's own timestamps
-/// (microseconds).
+/// Times are seconds since the log's start (its header timestamp, or for a header
+/// without one its first timestamp): `90`, `1:30` or `1:30.5` (also `1:02:03`);
+/// `--start-us`/`--end-us` take the log's own timestamps (microseconds).
 #[derive(Debug, clap::Args)]
 #[command(
     about = "A time window and a choice of topics of a log, as a valid log",
@@ -67,12 +67,30 @@ fn seconds(text: &str) -> Result<u64, String> {
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     // The log is not parsed: the edit frames it once, as it reads it (BENCHMARKS.md,
-    // "cut"). Times count from the header's timestamp.
-    let start = header(&name, &args.file)?.timestamp;
+    // "cut"). Times count from the log's start (`TimeSpan`): the header's timestamp,
+    // or, in a log whose header has none, its first timestamp, which takes a pass.
+    let mut start = header(&name, &args.file)?.timestamp;
+    if start == 0 && (args.start.is_some() || args.end.is_some()) {
+        start = input::keep(&args.file, &[])?.metadata.span().start();
+    }
     let from = args
         .start_us
         .or(args.start.map(|s| start.saturating_add(s)));
     let to = args.end_us.or(args.end.map(|s| start.saturating_add(s)));
+    // A window that holds no time is refused before anything is read or written
+    // (the library refuses it too; here it is said in the options' own terms).
+    if let (Some(a), Some(b)) = (from, to) {
+        if a >= b {
+            return Err(Failure::about(
+                &name,
+                format!(
+                    "the window is empty: {} is not before {}",
+                    bound("--start", args.start, args.start_us),
+                    bound("--end", args.end, args.end_us)
+                ),
+            ));
+        }
+    }
     let mut edit = Edit::new().window(from, to);
     let list = |text: &str| {
         text.split(',')
@@ -86,13 +104,65 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(text) = &args.exclude {
         edit = edit.exclude(list(text));
     }
+    // A cut that keeps none of the log's data (a window after its end or before its
+    // start, topics without data there) is known once the pass has run: refused,
+    // with where the data is, and nothing left behind.
+    let since_start = |t: u64| (t as f64 - start as f64) / 1e6;
+    let refuse = |summary: &EditSummary| {
+        if summary.rows > 0 || summary.rows_left_out == 0 {
+            return None;
+        }
+        let chosen = if args.messages.is_some() || args.exclude.is_some() {
+            " of the topics chosen"
+        } else {
+            ""
+        };
+        let window = match (from, to) {
+            (None, None) => String::new(),
+            _ => format!(
+                " in the window from {} to {}",
+                from.map_or("the log's start".into(), |t| format!(
+                    "{:.3} s",
+                    since_start(t)
+                )),
+                to.map_or("the log's end".into(), |t| format!(
+                    "{:.3} s",
+                    since_start(t)
+                ))
+            ),
+        };
+        let span = summary
+            .data_times
+            .map(|(lo, hi)| {
+                format!(
+                    " (the log's data runs from {:.3} s to {:.3} s since its start)",
+                    since_start(lo),
+                    since_start(hi)
+                )
+            })
+            .unwrap_or_default();
+        Some(Failure::lacking(
+            &name,
+            format!("no data{chosen}{window}{span}: nothing written"),
+        ))
+    };
     write_edit(
         &name,
         &args.file,
         &args.output,
         Source::file(&args.file),
         edit,
+        refuse,
     )
+}
+
+/// A bound of the window as it was given: `--start 30 s` or `--start-us 1000`.
+fn bound(flag: &str, seconds: Option<u64>, us: Option<u64>) -> String {
+    match (seconds, us) {
+        (Some(s), _) => format!("{flag} {} s", s as f64 / 1e6),
+        (None, Some(us)) => format!("{flag}-us {us}"),
+        (None, None) => flag.to_owned(),
+    }
 }
 
 /// The header of the log at `path` (named `name`), from its first bytes.
@@ -116,14 +186,16 @@ pub fn header(name: &str, path: &Path) -> Result<Header, Failure> {
 }
 
 /// Writes `edit` of `log` (the file `input`, named `name`) to `output`: under a
-/// temporary name, renamed when done; never over the input. Says what was written,
-/// and on stderr what damage was not copied and which topics named have no data.
+/// temporary name, renamed when done unless `refuse` fails what was written (then
+/// removed); never over the input. Says what was written, and on stderr what damage
+/// was not copied and which topics named have no data.
 pub fn write_edit(
     name: &str,
     input: &Path,
     output: &Path,
     log: Source<'_>,
     edit: Edit<'_>,
+    refuse: impl FnOnce(&EditSummary) -> Option<Failure>,
 ) -> Result<(), Failure> {
     if same_file(input, output) {
         return Err(Failure::about(name, "the output would replace the input"));
@@ -154,6 +226,10 @@ pub fn write_edit(
             });
         }
     };
+    if let Some(failure) = refuse(&summary) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(failure);
+    }
     std::fs::rename(&tmp, output).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         Failure::unreadable(&shown, io_text(&e))

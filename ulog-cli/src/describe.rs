@@ -31,6 +31,7 @@ pub fn kind_name(f: &Finding) -> &'static str {
         FindingKind::Corrupt(Corruption::BadHeader) => "corrupt_bad_header",
         FindingKind::Corrupt(Corruption::ZeroFill) => "corrupt_zero_fill",
         FindingKind::Corrupt(Corruption::Overrun) => "corrupt_overrun",
+        FindingKind::Corrupt(Corruption::CutByZeroFill) => "corrupt_cut_by_zero_fill",
         FindingKind::UnknownMessageType(_) => "unknown_message_type",
         FindingKind::UnknownMsgId(_) => "unknown_msg_id",
         FindingKind::SizeMismatch { .. } => "size_mismatch",
@@ -67,5 +68,115 @@ pub fn value_json(v: &Value<'_>) -> Json {
             (None, Some(i)) => i64::try_from(i).map_or(Json::Null, Json::from),
             _ => Json::Null,
         },
+    }
+}
+
+/// What a run of bytes holds, told by the magic number it starts with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BytesKind {
+    /// What it is, in words (`xz-compressed data`).
+    pub name: &'static str,
+    /// Its media type.
+    pub mime: &'static str,
+    /// A file name extension for it.
+    pub extension: &'static str,
+}
+
+/// Well-known magic numbers: the bytes a format starts with, and what it is.
+const MAGIC_NUMBERS: &[(&[u8], BytesKind)] = &[
+    (
+        b"\xfd7zXZ\x00",
+        kind("xz-compressed data", "application/x-xz", "xz"),
+    ),
+    (
+        b"\x1f\x8b",
+        kind("gzip-compressed data", "application/gzip", "gz"),
+    ),
+    (
+        b"\x28\xb5\x2f\xfd",
+        kind("zstd-compressed data", "application/zstd", "zst"),
+    ),
+    (
+        b"BZh",
+        kind("bzip2-compressed data", "application/x-bzip2", "bz2"),
+    ),
+    (
+        b"\x04\x22\x4d\x18",
+        kind("LZ4-compressed data", "application/x-lz4", "lz4"),
+    ),
+    (
+        b"7z\xbc\xaf\x27\x1c",
+        kind("7-Zip archive", "application/x-7z-compressed", "7z"),
+    ),
+    (b"PK\x03\x04", kind("ZIP archive", "application/zip", "zip")),
+    (b"\x89PNG\r\n\x1a\n", kind("PNG image", "image/png", "png")),
+    (b"\xff\xd8\xff", kind("JPEG image", "image/jpeg", "jpg")),
+    (b"%PDF-", kind("PDF document", "application/pdf", "pdf")),
+    (
+        b"\x7fELF",
+        kind("ELF executable", "application/octet-stream", "elf"),
+    ),
+    (
+        b"ULog\x01\x12\x35",
+        kind("ULog log", "application/octet-stream", "ulg"),
+    ),
+];
+
+const fn kind(name: &'static str, mime: &'static str, extension: &'static str) -> BytesKind {
+    BytesKind {
+        name,
+        mime,
+        extension,
+    }
+}
+
+/// Bytes of no kind [`bytes_kind`] knows.
+pub const BINARY: BytesKind = kind("binary data", "application/octet-stream", "bin");
+
+/// What `bytes` hold, by the magic number they start with; `None` for none known.
+pub fn bytes_kind(bytes: &[u8]) -> Option<BytesKind> {
+    MAGIC_NUMBERS
+        .iter()
+        .find(|(magic, _)| bytes.starts_with(magic))
+        .map(|(_, k)| *k)
+}
+
+/// `n` with a comma between groups of three digits (`47,052`).
+pub fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, d) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(d);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bytes_are_told_by_their_magic_number() {
+        let xz = bytes_kind(b"\xfd7zXZ\x00\x00\x04");
+        assert_eq!(xz.map(|k| k.name), Some("xz-compressed data"));
+        assert_eq!(bytes_kind(b"\x1f\x8b\x08").map(|k| k.extension), Some("gz"));
+        assert_eq!(
+            bytes_kind(b"ULog\x01\x12\x35\x01").map(|k| k.name),
+            Some("ULog log")
+        );
+        assert_eq!(bytes_kind(b"\xfd7z"), None);
+        assert_eq!(bytes_kind(b""), None);
+    }
+
+    #[test]
+    fn thousands_are_grouped() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(1000), "1,000");
+        assert_eq!(thousands(47_052), "47,052");
+        assert_eq!(thousands(1_234_567), "1,234,567");
     }
 }

@@ -19,8 +19,11 @@ pub enum Status {
     Refused = 4,
     /// 5: a topic or field name on the command line is not in the log.
     UnknownName = 5,
-    /// 6: anything else (an option value the log cannot satisfy, an internal limit).
+    /// 6: anything else (an option value that cannot work, an internal limit).
     Other = 6,
+    /// 7: the log does not hold what an option needs: default parameters (`params -d`,
+    /// `--diff-defaults`), a UTC time (`--utc`), data in a cut's window.
+    Lacking = 7,
 }
 
 impl Status {
@@ -32,9 +35,8 @@ impl Status {
 
 /// The `Exit status` section of `ulog --help`.
 pub const EXIT_STATUS_HELP: &str = "\
-Exit status: 0 success, 1 `check` found damage or spec departures, 2 bad usage,
-  3 a file could not be read or written, 4 not a ULog log or one to refuse,
-  5 a topic or field name is not in the log, 6 any other failure";
+Exit status: 0 ok, 1 `check` found damage, 2 bad usage, 3 file not readable or
+  writable, 4 not ULog, 5 name not in log, 6 other, 7 log lacks what is asked";
 
 /// What ended a command early.
 #[derive(Debug)]
@@ -63,6 +65,11 @@ impl Failure {
     /// A file that could not be read or written.
     pub fn unreadable(subject: impl core::fmt::Display, what: impl core::fmt::Display) -> Failure {
         Failure::new(Status::Io, subject, what)
+    }
+
+    /// What an option needs that the log does not hold (`what` says which option).
+    pub fn lacking(subject: impl core::fmt::Display, what: impl core::fmt::Display) -> Failure {
+        Failure::new(Status::Lacking, subject, what)
     }
 
     /// A topic or field name that is not in the log.

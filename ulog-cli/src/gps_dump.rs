@@ -4,7 +4,7 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
-use ulog_core::track::{gps_dump, GpsDumpChunk};
+use ulog_core::track::{gps_dump, GpsDumpChunk, GPS_DUMP_TOPIC};
 
 use crate::failure::{io_text, Failure};
 use crate::input;
@@ -31,12 +31,15 @@ pub struct Args {
     /// Only this receiver instance (0 the main receiver, 1 the secondary).
     #[arg(short = 'i', long = "instance", value_name = "N")]
     instance: Option<u8>,
+    #[arg(short = 'x', long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
+    // One pass in chunks, keeping the metadata and the rows of `gps_dump`.
+    let kept = input::keep(&args.file, &[GPS_DUMP_TOPIC])?;
+    let log = kept.log(&name)?;
     let chunks = gps_dump(&log).map_err(|e| crate::kml::track_failure(&name, e))?;
     input::note_damage(&name, log.findings());
     if chunks.is_empty() {

@@ -5,8 +5,10 @@ use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 use serde_json::{json, Map, Value as Json};
-use ulog_core::read::{FindingKind, KeyValue};
-use ulog_core::{ULog, Value};
+use ulog_core::read::{
+    FindingKind, KeyValue, MultiInfo, OutlierSide, SpanOutlier, TopicRows, UtcClock,
+};
+use ulog_core::{Source, ULog, Value};
 
 use crate::describe::{kind_name, type_name, value_json};
 use crate::failure::{stdout_err, Failure};
@@ -19,7 +21,11 @@ JSON keys (--json; stable, new keys may be added):
   file_version         header version byte
   start_timestamp      header timestamp, microseconds
   last_timestamp       largest data timestamp, microseconds
-  duration_s           (last - start) / 1e6
+  duration_s           (last - start) / 1e6, as ulog_info has it
+  span                 the log's time span by the rule every output uses
+                       (ulog_core's TimeSpan): {start_us, end_us, duration_s,
+                       outliers: [{topic, multi_id, side (before_start, after_end),
+                       rows, offset, earliest_us, latest_us}]}
   utc_start            UTC time of start_timestamp (RFC 3339, microseconds) or null
   utc_source           where it comes from (`ulog info` text) or null
   flag_bits            null (no flag bits message) or {compat_flags, incompat_flags,
@@ -47,9 +53,10 @@ JSON keys (--json; stable, new keys may be added):
                        appended_offsets_without_flag, appended_data,
                        partial_before_appended, truncated, corrupt_zero_size,
                        corrupt_bad_header, corrupt_zero_fill, corrupt_overrun,
-                       unknown_message_type, unknown_msg_id, size_mismatch,
-                       malformed, invalid_format, layout, redefined_format,
-                       unknown_format, invalid_key, no_timestamp, other";
+                       corrupt_cut_by_zero_fill, unknown_message_type,
+                       unknown_msg_id, size_mismatch, malformed, invalid_format,
+                       layout, redefined_format, unknown_format, invalid_key,
+                       no_timestamp, other";
 
 /// Show what a log holds, in pyulog's `ulog_info` layout (start time and duration,
 /// dropouts, software version, information, multi-information, and the table of topics
@@ -73,35 +80,82 @@ pub struct Args {
     /// Also show `perf_*` information and the multi-information values.
     #[arg(short, long)]
     verbose: bool,
+    /// Only the multi-information of this key, each entry under a `# KEY N:` line, as
+    /// ulog_info's `-m` prints it (text as it is, other values as hex bytes).
+    #[arg(
+        short = 'm',
+        long = "message",
+        value_name = "KEY",
+        conflicts_with_all = ["json", "verbose"]
+    )]
+    message: Option<String>,
+    /// With `--message`: a line break between an entry's continued parts (ulog_info's
+    /// `-n`).
+    #[arg(short = 'n', long, requires = "message")]
+    newline: bool,
+    #[arg(short = 'i', long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let mapped;
-    let owned;
-    let (name, bytes): (String, &[u8]) = match &args.file {
-        Some(p) => {
-            mapped = input::open(p)?;
-            (p.display().to_string(), mapped.bytes())
-        }
+    // One pass in chunks: the metadata, and each topic's rows counted.
+    let (name, kept) = match &args.file {
+        Some(p) => (p.display().to_string(), input::keep(p, &[])?),
         None => {
             let _ = writeln!(
                 io::stderr(),
                 "ulog: no FILE given: showing the bundled sample log"
             );
-            owned = ulog_core::testing::sample_log();
-            ("<bundled sample>".to_owned(), &owned)
+            let name = "<bundled sample>".to_owned();
+            let bytes = ulog_core::testing::sample_log();
+            let kept = input::keep_from(Source::from(&bytes), None, &name, &[])?;
+            (name, kept)
         }
     };
-    let log = input::parse(&name, bytes)?;
+    let log = kept.log(&name)?;
+    let shown = Shown {
+        log: &log,
+        rows: kept.metadata.topics(),
+        utc: kept.metadata.utc(),
+    };
     let mut out = BufWriter::new(io::stdout().lock());
+    if let Some(key) = &args.message {
+        let Some(multi) = log.multi_info().iter().find(|m| m.name == *key) else {
+            let mut keys: Vec<String> = log
+                .multi_info()
+                .iter()
+                .map(|m| format!("`{}`", m.name))
+                .collect();
+            keys.sort();
+            let have = match keys.is_empty() {
+                true => "it has none".to_owned(),
+                false => format!("its keys: {}", keys.join(", ")),
+            };
+            return Err(Failure::unknown_name(
+                &name,
+                format!("no multi-information `{key}` in the log ({have})"),
+            ));
+        };
+        write_multi(&mut out, multi, args.newline).map_err(stdout_err)?;
+        return out.flush().map_err(stdout_err);
+    }
     if args.json {
-        let j = to_json(&name, &log);
+        let j = to_json(&name, &shown);
         serde_json::to_writer_pretty(&mut out, &j).map_err(|e| Failure::io("stdout", &e.into()))?;
         writeln!(out).map_err(stdout_err)?;
     } else {
-        write_text(&mut out, &log, args.verbose).map_err(stdout_err)?;
+        write_text(&mut out, &shown, args.verbose).map_err(stdout_err)?;
     }
     out.flush().map_err(stdout_err)
+}
+
+/// What `info` shows: the log kept without its data, with what the pass counted of
+/// the data.
+struct Shown<'l, 'a> {
+    log: &'l ULog<'a>,
+    /// Per subscription, its rows.
+    rows: &'l [TopicRows],
+    utc: Option<UtcClock>,
 }
 
 /// Whether pyulog sets `file_corruption` for this log: damage other than the end of
@@ -146,15 +200,17 @@ struct TopicRow {
 /// The topic table's rows, sorted as ulog_info sorts them (by name and multi_id
 /// concatenated as text). Topics without data are left out, as pyulog does; the
 /// message size is the format's without trailing padding.
-fn topic_rows(log: &ULog<'_>) -> Vec<TopicRow> {
-    let mut rows: Vec<TopicRow> = log
+fn topic_rows(shown: &Shown<'_, '_>) -> Vec<TopicRow> {
+    let points = |i: usize| shown.rows.get(i).map_or(0, |r| r.rows as usize);
+    let mut rows: Vec<TopicRow> = shown
+        .log
         .topics()
-        .filter(|t| !t.is_empty())
+        .filter(|t| points(t.subscription().index()) > 0)
         .map(|t| TopicRow {
             name: t.name().to_owned(),
             multi_id: t.multi_id(),
             size: t.layout().map_or(0, |l| l.min_size()),
-            points: t.len(),
+            points: points(t.subscription().index()),
         })
         .collect();
     rows.sort_by(|a, b| (&a.name, a.multi_id).cmp(&(&b.name, b.multi_id)));
@@ -162,7 +218,8 @@ fn topic_rows(log: &ULog<'_>) -> Vec<TopicRow> {
     rows
 }
 
-fn write_text(out: &mut impl Write, log: &ULog<'_>, verbose: bool) -> io::Result<()> {
+fn write_text(out: &mut impl Write, shown: &Shown<'_, '_>, verbose: bool) -> io::Result<()> {
+    let log = shown.log;
     if pyulog_corruption(log) {
         writeln!(out, "Warning: file has data corruption(s)")?;
     }
@@ -229,7 +286,7 @@ fn write_text(out: &mut impl Write, log: &ULog<'_>, verbose: bool) -> io::Result
         "{:<41} {:7}, {:10}",
         "Name (multi id, message size in bytes)", "number of data points", "total bytes"
     )?;
-    for r in topic_rows(log) {
+    for r in topic_rows(shown) {
         let name_id = format!("{} ({}, {})", r.name, r.multi_id, r.size);
         writeln!(
             out,
@@ -238,7 +295,121 @@ fn write_text(out: &mut impl Write, log: &ULog<'_>, verbose: bool) -> io::Result
             r.size * r.points
         )?;
     }
-    write_findings(out, log)
+    write_findings(out, shown)
+}
+
+/// The entries of one multi-information key as ulog_info's `-m` prints them: per
+/// entry a `# KEY N:` line, then its parts joined (by a line break with `newline`,
+/// else by nothing): text as it is; values of other types as their bytes in hex
+/// (`fd 37 7a`), the line saying how many bytes the entry has, as for pyulog's
+/// `bytes` values (arrays, `char`, values it cannot decode). Numbers and booleans,
+/// which ulog_info cannot join (it stops with a `TypeError`), print as Python shows them.
+fn write_multi(out: &mut impl Write, multi: &MultiInfo<'_>, newline: bool) -> io::Result<()> {
+    let separator = if newline { "\n" } else { "" };
+    let key = &multi.name;
+    for (i, parts) in multi.entries.iter().enumerate() {
+        let is_bytes = |kv: &KeyValue<'_>| {
+            matches!(
+                kv.value(),
+                Value::Array(_) | Value::Bytes(_) | Value::Char(_)
+            )
+        };
+        // ulog_info looks at the first part to choose.
+        if parts.first().is_some_and(is_bytes) {
+            let len: usize = parts.iter().map(|kv| kv.raw.len()).sum();
+            writeln!(out, "# {key} {i} (len: {len}):")?;
+            let hex: Vec<String> = parts
+                .iter()
+                .map(|kv| {
+                    let bytes: Vec<String> = kv.raw.iter().map(|b| format!("{b:02x}")).collect();
+                    bytes.join(" ")
+                })
+                .collect();
+            writeln!(out, "{}", hex.join(separator))?;
+        } else {
+            writeln!(out, "# {key} {i}:")?;
+            let text: Vec<String> = parts.iter().map(|kv| py_str(&kv.value())).collect();
+            writeln!(out, "{}", text.join(separator))?;
+        }
+    }
+    Ok(())
+}
+
+/// The log's span and the rows far outside it, one line each: where the plots, the
+/// MCAP file and the dataset put the log's start and end, and why a stale or stray
+/// row does not stretch them.
+fn write_span(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
+    let span = log.span();
+    writeln!(
+        out,
+        "Time span: {} to {} ({:.3} s){}",
+        hms(span.start()),
+        hms(span.end()),
+        span.duration_s(),
+        match span.outliers().len() {
+            0 => String::new(),
+            n => format!("; {n} topic instance(s) with rows far outside it:"),
+        }
+    )?;
+    for o in span.outliers() {
+        let topic = outlier_topic(log, o);
+        let rows = if o.rows == 1 { "row" } else { "rows" };
+        let what = match o.side {
+            OutlierSide::BeforeStart if o.latest == 0 => "stamped 0 (never set)".to_owned(),
+            OutlierSide::BeforeStart => format!(
+                "stamped up to {:.1} s before the start",
+                (span.start() - o.earliest) as f64 / 1e6
+            ),
+            _ => format!(
+                "stamped up to {:.1} s after the end",
+                o.latest.saturating_sub(span.end()) as f64 / 1e6
+            ),
+        };
+        writeln!(
+            out,
+            "  {}({}): {} {rows} {what}, first at byte {}",
+            topic.0, topic.1, o.rows, o.offset
+        )?;
+    }
+    Ok(())
+}
+
+/// The topic name and multi id of an outlier's subscription.
+fn outlier_topic(log: &ULog<'_>, o: &SpanOutlier) -> (String, u8) {
+    log.subscriptions()
+        .get(o.subscription)
+        .map(|s| (s.name().to_owned(), s.multi_id()))
+        .unwrap_or_else(|| (format!("subscription {}", o.subscription), 0))
+}
+
+/// `span` of `--json`.
+fn span_json(log: &ULog<'_>) -> Json {
+    let span = log.span();
+    let outliers: Vec<Json> = span
+        .outliers()
+        .iter()
+        .map(|o| {
+            let (topic, multi_id) = outlier_topic(log, o);
+            json!({
+                "topic": topic,
+                "multi_id": multi_id,
+                "side": match o.side {
+                    OutlierSide::BeforeStart => "before_start",
+                    _ => "after_end",
+                },
+                "rows": o.rows,
+                "offset": o.offset,
+                "earliest_us": o.earliest,
+                "latest_us": o.latest,
+            })
+        })
+        .collect();
+    json!({
+        "start_us": span.start(),
+        "end_us": span.end(),
+        "duration_s": span.duration_s(),
+        "outliers": outliers,
+    })
 }
 
 /// Multi-information by key, sorted; the entries of each key in file order.
@@ -250,7 +421,8 @@ fn multi_dict<'l, 'a>(log: &'l ULog<'a>) -> BTreeMap<&'l str, &'l [Vec<KeyValue<
 }
 
 /// What ulog_info does not show: the reader's view of the file.
-fn write_findings(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
+fn write_findings(out: &mut impl Write, shown: &Shown<'_, '_>) -> io::Result<()> {
+    let log = shown.log;
     writeln!(out)?;
     writeln!(out, "File version: {}", log.version())?;
     match log.flag_bits() {
@@ -266,7 +438,7 @@ fn write_findings(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
         let list: Vec<String> = appended.iter().map(u64::to_string).collect();
         writeln!(out, "Appended data at bytes: {}", list.join(", "))?;
     }
-    match log.utc() {
+    match &shown.utc {
         Some(clock) => writeln!(
             out,
             "UTC start: {:.0} (from {})",
@@ -278,6 +450,7 @@ fn write_findings(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
             "UTC start: unknown (no GPS time, no boot_time_utc_us information)"
         )?,
     }
+    write_span(out, log)?;
     let tagged = log
         .logged_messages()
         .iter()
@@ -322,7 +495,8 @@ fn write_findings(out: &mut impl Write, log: &ULog<'_>) -> io::Result<()> {
     Ok(())
 }
 
-fn to_json(name: &str, log: &ULog<'_>) -> Json {
+fn to_json(name: &str, shown: &Shown<'_, '_>) -> Json {
+    let log = shown.log;
     let info: Map<String, Json> = info_dict(log)
         .iter()
         .map(|(k, v)| (k.clone(), value_json(v)))
@@ -337,7 +511,7 @@ fn to_json(name: &str, log: &ULog<'_>) -> Json {
             ((*k).to_owned(), Json::Array(e))
         })
         .collect();
-    let topics: Vec<Json> = topic_rows(log)
+    let topics: Vec<Json> = topic_rows(shown)
         .iter()
         .map(|r| {
             json!({
@@ -366,13 +540,14 @@ fn to_json(name: &str, log: &ULog<'_>) -> Json {
         .iter()
         .map(|u| json!({"offset": u.offset, "type": u.msg_type, "size": u.payload.len()}))
         .collect();
-    let utc = log.utc();
+    let utc = &shown.utc;
     json!({
         "file": name,
         "file_version": log.version(),
         "start_timestamp": log.start_timestamp(),
         "last_timestamp": log.last_timestamp(),
         "duration_s": log.last_timestamp().saturating_sub(log.start_timestamp()) as f64 / 1e6,
+        "span": span_json(log),
         "utc_start": utc.as_ref().map(|c| c.at(log.start_timestamp()).to_string()),
         "utc_source": utc.as_ref().map(|c| c.source().to_string()),
         "flag_bits": log.flag_bits().map(|f| json!({

@@ -1,10 +1,10 @@
 //! Opening and parsing the log named on the command line, with one clear line when it
 //! cannot be read.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use ulog_core::read::{ReadErrorKind, UtcClock};
-use ulog_core::{LogFile, ReadError, ULog};
+use ulog_core::read::{LogMetadata, ReadErrorKind, UtcClock};
+use ulog_core::{LogFile, ReadError, ScanOptions, Source, ULog};
 
 use crate::failure::{io_text, Failure, Status};
 
@@ -32,15 +32,86 @@ pub fn parse<'a>(name: &str, bytes: &'a [u8]) -> Result<ULog<'a>, Failure> {
     ULog::parse(bytes).map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
 }
 
+/// A log read once in chunks, in bounded memory: everything but its data, and the
+/// data of the topics asked for ([`keep`]).
+pub struct Kept {
+    /// Everything but the data (what framing saw of the whole file included), the
+    /// rows of each topic counted.
+    pub metadata: LogMetadata,
+}
+
+impl Kept {
+    /// The kept log ([`LogMetadata::log`]); `name` is the log's, for the failure.
+    pub fn log(&self, name: &str) -> Result<ULog<'_>, Failure> {
+        self.metadata
+            .log()
+            .map_err(|e| Failure::new(Status::Refused, name, error_text(&e)))
+    }
+}
+
+/// Reads the log at `path` once, in chunks (the next read on a second thread), keeping
+/// everything but the data and the data of `topics`: for the commands that need no
+/// more, whatever the size of the file. A missing, unreadable or directory path, or a
+/// read that fails, is a failure about `path`; a file that is not ULog (or one to
+/// refuse) one about the log.
+pub fn keep(path: &Path, topics: &[&str]) -> Result<Kept, Failure> {
+    not_a_directory(path)?;
+    keep_from(
+        Source::file(path),
+        Some(path),
+        &path.display().to_string(),
+        topics,
+    )
+}
+
+/// [`keep`] from any source; `path` is the file read errors are said of, `name` the
+/// log's name.
+pub fn keep_from(
+    source: Source<'_>,
+    path: Option<&Path>,
+    name: &str,
+    topics: &[&str],
+) -> Result<Kept, Failure> {
+    let options = ScanOptions::default()
+        .read_ahead(true)
+        .keep_metadata(true)
+        .keep_data(topics.iter().copied());
+    let mut summary =
+        ulog_core::scan(source, &options, |_| {}).map_err(|e| pass_failure(path, name, &e))?;
+    let Some(metadata) = summary.metadata.take() else {
+        unreachable!("a pass asked to keep the metadata keeps it")
+    };
+    Ok(Kept { metadata })
+}
+
+/// The failure of a pass, as reading the whole file and parsing it gave it: a read
+/// that fails is about the file `path`, a log that is not one (or is refused) about
+/// `name`.
+pub fn pass_failure(path: Option<&Path>, name: &str, e: &ReadError) -> Failure {
+    match (path, e.kind()) {
+        (Some(path), ReadErrorKind::Io(_)) => Failure::unreadable(path.display(), error_text(e)),
+        _ => Failure::new(Status::Refused, name, error_text(e)),
+    }
+}
+
 /// The UTC clock of `log` when `--utc` is `wanted` ([`ULog::utc`]); a log that does
-/// not say its UTC time is then a failure about `name` (exit status 6), not boot times
+/// not say its UTC time is then a failure about `name` (exit status 7), not boot times
 /// printed as UTC.
 pub fn utc_clock(name: &str, log: &ULog<'_>, wanted: bool) -> Result<Option<UtcClock>, Failure> {
+    utc_of(name, || log.utc(), wanted)
+}
+
+/// [`utc_clock`] of the clock `clock` gives (a kept log's: [`LogMetadata::utc`]).
+pub fn utc_of(
+    name: &str,
+    clock: impl FnOnce() -> Option<UtcClock>,
+    wanted: bool,
+) -> Result<Option<UtcClock>, Failure> {
     if !wanted {
         return Ok(None);
     }
-    log.utc().map(Some).ok_or_else(|| {
-        Failure::about(
+    clock().map(Some).ok_or_else(|| {
+        Failure::lacking(
             name,
             "--utc: the log does not say its UTC time (no GPS time_utc_usec in \
              vehicle_gps_position, sensor_gps or vehicle_gnss, and no boot_time_utc_us \
@@ -120,23 +191,33 @@ pub fn topic_list<'s>(name: &str, log: &ULog<'_>, list: &'s str) -> Result<Vec<&
     Ok(wanted)
 }
 
-/// The extensions of log files (any case): `.ulg`, and `.ulog` that some tools write.
-pub const LOG_EXTENSIONS: [&str; 2] = ["ulg", "ulog"];
-
-/// Whether `path` is named as a log file (`.ulg` or `.ulog`, any case).
-pub fn is_log_name(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| LOG_EXTENSIONS.iter().any(|x| e.eq_ignore_ascii_case(x)))
-}
-
 /// `name` without its `.ulg` or `.ulog` extension (any case), or `None` when it has
 /// neither.
 pub fn strip_log_extension(name: &str) -> Option<&str> {
-    LOG_EXTENSIONS.iter().find_map(|ext| {
+    LogFile::EXTENSIONS.iter().find_map(|ext| {
         let cut = name.len().checked_sub(ext.len() + 1)?;
         let (stem, tail) = (name.get(..cut)?, name.get(cut..)?);
         (tail.starts_with('.') && tail[1..].eq_ignore_ascii_case(ext)).then_some(stem)
     })
+}
+
+/// The logs an input of the command line names ([`LogFile::find`]): the file itself,
+/// or the logs in a directory and its subdirectories, sorted, each with its size. A
+/// missing input, or a directory without logs, is a failure about it.
+pub fn logs_in(input: &Path) -> Result<Vec<(PathBuf, u64)>, Failure> {
+    let logs = LogFile::find(input).map_err(|e| {
+        let text = std::error::Error::source(&e)
+            .and_then(|s| s.downcast_ref::<std::io::Error>())
+            .map_or_else(|| e.what(), io_text);
+        Failure::unreadable(e.path().unwrap_or(input).display(), text)
+    })?;
+    if logs.is_empty() {
+        return Err(Failure::unreadable(
+            input.display(),
+            "no .ulg or .ulog files in this directory or its subdirectories",
+        ));
+    }
+    Ok(logs)
 }
 
 /// Says on stderr, once, that the reader stepped over damage in the log `name`
@@ -201,8 +282,8 @@ mod tests {
         assert_eq!(strip_log_extension("a/b.txt"), None);
         assert_eq!(strip_log_extension(".ulg"), Some(""));
         assert_eq!(strip_log_extension("é.ulg"), Some("é"));
-        assert!(is_log_name(Path::new("x/y.ULOG")));
-        assert!(is_log_name(Path::new("y.ulg")));
-        assert!(!is_log_name(Path::new("y.ulg.txt")));
+        assert!(LogFile::is_log_name(Path::new("x/y.ULOG")));
+        assert!(LogFile::is_log_name(Path::new("y.ulg")));
+        assert!(!LogFile::is_log_name(Path::new("y.ulg.txt")));
     }
 }

@@ -25,7 +25,9 @@ use crate::markup::escape;
 /// per line (properties: topic, nav_state, colour, first and last timestamps and UTC
 /// times), camera triggers as Point features. As in `ulog2kml`, the point where the
 /// mode changes is in both lines. Written to `<FILE stem>.kml` (`.gpx`, `.geojson`)
-/// in the current directory unless `-o` says otherwise (`-o -`: stdout).
+/// in the current directory unless `-o` says otherwise (`-o -`: stdout). Names are
+/// escaped, and characters XML cannot hold (control characters but tab and line
+/// breaks, noncharacters) written as U+FFFD, so that KML and GPX are well-formed XML.
 #[derive(Debug, clap::Args)]
 #[command(
     about = "The GPS track as KML, GPX or GeoJSON, as pyulog's ulog2kml",
@@ -52,6 +54,8 @@ pub struct Args {
     /// `alt`, `seq`).
     #[arg(long = "camera-trigger", value_name = "NAME")]
     camera_trigger: Option<String>,
+    #[arg(short = 'i', long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,11 +77,13 @@ impl Format {
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
     let mut options = TrackOptions::default();
     options.topic.clone_from(&args.topic);
     options.camera_trigger.clone_from(&args.camera_trigger);
+    // One pass in chunks, keeping the metadata and the rows of the topics the track
+    // reads.
+    let kept = input::keep(&args.file, &options.topics())?;
+    let log = kept.log(&name)?;
     let track = Track::from_log(&log, &options).map_err(|e| track_failure(&name, e))?;
     input::note_damage(&name, log.findings());
     let format = if args.gpx {

@@ -5,6 +5,7 @@
 // The one exception, with its safety argument: Ryu writing into a buffer (numfmt.rs).
 #![deny(unsafe_code)]
 
+mod align;
 mod anonymise;
 mod check;
 mod codegen;
@@ -26,6 +27,7 @@ mod parquet;
 mod plot;
 mod progress;
 mod pyfmt;
+mod pyulog;
 mod report;
 
 use std::process::ExitCode;
@@ -59,13 +61,14 @@ enum Command {
     Parquet(parquet::Args),
     Mcap(mcap::Args),
     Plot(plot::Args),
+    Align(align::Args),
     Kml(kml::Args),
     Report(report::Args),
     GpsDump(gps_dump::Args),
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::parse_from(pyulog::rewrite_args(std::env::args_os()));
     progress::set_quiet(cli.quiet);
     let done = |r: Result<(), Failure>| r.map(|()| Status::Ok);
     let result = match cli.command {
@@ -81,6 +84,7 @@ fn main() -> ExitCode {
         Command::Parquet(a) => done(parquet::run(&a)),
         Command::Mcap(a) => done(mcap::run(&a)),
         Command::Plot(a) => done(plot::run(&a)),
+        Command::Align(a) => done(align::run(&a)),
         Command::Kml(a) => done(kml::run(&a)),
         Command::Report(a) => done(report::run(&a)),
         Command::GpsDump(a) => done(gps_dump::run(&a)),

@@ -16,8 +16,9 @@ use crate::input;
 /// own types, `char[N]` as `uint8[N]`, padding left out), messages in CDR at their
 /// `timestamp`; logged strings on `/rosout` (`rcl_interfaces/msg/Log`), parameters
 /// on `/ulog/parameters`, information, multi-information, dropouts and damage found
-/// as MCAP metadata. Chunks of 1 MiB, zstd-compressed; the log is read once (never
-/// held whole, but with `--utc`).
+/// as MCAP metadata. Chunks of 1 MiB, zstd-compressed; the log is read in chunks,
+/// never held whole: a first pass finds its span (and with `--utc` its clock), the
+/// second writes.
 ///
 /// Times are since boot unless `--utc`; `--start`/`--end` are seconds since the
 /// log's start (`90`, `1:30`, `1:30.5`). `--rosbag2` writes each log as a ROS 2 bag
@@ -130,9 +131,15 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
         false => (None, out.to_owned()),
     };
     let out = out.as_path();
-    let start = crate::cut::header(&name, file)?.timestamp;
+    // A first pass over the file (framing, and the GPS rows that give the clock)
+    // finds its span, which places each message's log time, and its UTC clock.
+    let kept = input::keep(file, &[])?;
+    let span = kept.metadata.span().clone();
+    let utc = input::utc_of(&name, || kept.metadata.utc(), args.utc)?;
+    drop(kept);
+    let start = span.start();
     let at = |s: f64| start.saturating_add((s * 1e6).round() as u64);
-    let mut options = McapOptions {
+    let options = McapOptions {
         topics: args.messages.as_ref().map(|list| {
             list.split(',')
                 .filter(|s| !s.is_empty())
@@ -146,18 +153,10 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
         zstd: args.compression == Codec::Zstd,
         start_us: args.start.map(at),
         end_us: args.end.map(at),
+        utc,
+        span: Some(span),
         ..McapOptions::default()
     };
-    // The clock needs the GPS rows: with `--utc` the file is read whole and parsed
-    // first, and the pass then frames those bytes (the file is read once either way).
-    let held = match args.utc {
-        true => Some(input::open(file)?),
-        false => None,
-    };
-    if let Some(bytes) = &held {
-        let log = input::parse(&name, bytes.bytes())?;
-        options.utc = input::utc_clock(&name, &log, true)?;
-    }
     let shown = out.display().to_string();
     if out.is_dir() {
         return Err(Failure::unreadable(
@@ -170,11 +169,7 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
     let partial = PathBuf::from(partial);
     let sink =
         std::fs::File::create(&partial).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-    let source = match &held {
-        Some(bytes) => Source::from(bytes),
-        None => Source::file(file),
-    };
-    let written = write_mcap(source, BufWriter::new(sink), &options);
+    let written = write_mcap(Source::file(file), BufWriter::new(sink), &options);
     let summary = match written {
         Ok(s) => s,
         Err(e) => {

@@ -49,12 +49,16 @@ pub struct Args {
     /// GPS time or its `boot_time_utc_us` (`ulog info` says which).
     #[arg(long)]
     utc: bool,
+    #[arg(short = 'i', long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
+    // One pass in chunks: the logged strings are metadata, the events' rows are kept
+    // as it goes by.
+    let kept = input::keep(&args.file, &[])?;
+    let log = kept.log(&name)?;
     let mut options = EventOptions::default().profile(args.profile.clone());
     if let Some(path) = &args.events_json {
         let shown = path.display().to_string();
@@ -62,12 +66,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let metadata = Metadata::from_bytes(&bytes).map_err(|e| Failure::about(&shown, e))?;
         options = options.metadata(metadata);
     }
-    let (lines, findings) = lines(&log, || log.events(&options), args.no_tagged);
+    let (lines, findings) = lines(&log, || kept.metadata.events(&options), args.no_tagged);
     let mut stderr = io::stderr();
     for f in &findings {
         let _ = writeln!(stderr, "ulog: {name}: {f}");
     }
-    let utc = input::utc_clock(&name, &log, args.utc)?;
+    let utc = input::utc_of(&name, || kept.metadata.utc(), args.utc)?;
     let mut out = BufWriter::new(io::stdout().lock());
     for (t, level, text) in &lines {
         match &utc {

@@ -43,8 +43,16 @@ mod diff;
 pub struct Args {
     /// The ULog file (A of `--diff`).
     file: PathBuf,
-    /// Output file (default: stdout).
+    /// Output file (default: stdout), as ulog_params takes it.
     output: Option<PathBuf>,
+    /// Output file, as the other `ulog` commands take it (instead of OUTPUT).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "FILE",
+        conflicts_with = "output"
+    )]
+    out: Option<PathBuf>,
     /// Only the initial values, no changes (csv, octave). As in ulog_params, with
     /// `--timestamps` the changes are still listed, all at the start time. With `--diff`
     /// or `--diff-defaults`: compare the initial values instead of those at the end.
@@ -87,6 +95,15 @@ pub struct Args {
     /// csv delimiter.
     #[arg(short = 'l', long, default_value = ",", value_name = "DELIM")]
     delimiter: String,
+    #[arg(long, help = crate::pyulog::IGNORE_HELP)]
+    ignore: bool,
+}
+
+impl Args {
+    /// The output file, given as OUTPUT or with `-o`.
+    fn output(&self) -> Option<&PathBuf> {
+        self.output.as_ref().or(self.out.as_ref())
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -144,26 +161,31 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         diff::usage_error("--utc: only csv lists times (octave and qgc print values only)");
     }
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
-    let (out_name, sink): (String, Box<dyn Write>) = match &args.output {
+    // The parameters are metadata: one pass in chunks, the data not kept.
+    let kept = input::keep(&args.file, &[])?;
+    let log = kept.log(&name)?;
+    let (out_name, sink): (String, Box<dyn Write>) = match args.output() {
         Some(p) => {
             let f = File::create(p).map_err(|e| Failure::unreadable(p.display(), io_text(&e)))?;
             (p.display().to_string(), Box::new(f))
         }
         None => ("stdout".to_owned(), Box::new(io::stdout().lock())),
     };
-    let utc = input::utc_clock(&name, &log, args.utc)?;
+    let utc = input::utc_of(&name, || kept.metadata.utc(), args.utc)?;
     let mut out = BufWriter::new(sink);
-    let text = render(&log, args, format, utc.as_ref()).map_err(|m| Failure::about(&name, m))?;
+    let text = render(&log, args, format, utc.as_ref())?;
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
         .map_err(|e| Failure::io(&out_name, &e))
 }
 
-/// Why `--default` and `--diff-defaults` fail on a log without defaults.
-const NO_DEFAULTS: &str =
-    "the log has no default parameters (compat flag DEFAULT_PARAMETERS is not set)";
+/// Why `option` (`--default`, `--diff-defaults`) fails on a log without defaults.
+fn no_defaults(option: &str) -> String {
+    format!(
+        "{option}: the log has no default parameters to compare with (compat flag \
+         DEFAULT_PARAMETERS is not set; `--diff B.ulg` compares with another log)"
+    )
+}
 
 /// A parameter value: Python's `str()` of it, and whether Python holds it as a float.
 struct Param {
@@ -185,7 +207,7 @@ fn render(
     args: &Args,
     format: OutputFormat,
     utc: Option<&UtcClock>,
-) -> Result<String, String> {
+) -> Result<String, Failure> {
     let mut params: BTreeMap<String, Param> = BTreeMap::new();
     let mut initial = args.initial;
     match args.default {
@@ -197,7 +219,8 @@ fn render(
         Some(kind) => {
             let has_defaults = log.flag_bits().is_some_and(|f| f.has_default_parameters());
             if !has_defaults {
-                return Err(NO_DEFAULTS.into());
+                let name = args.file.display();
+                return Err(Failure::lacking(name, no_defaults("--default")));
             }
             let bit = if kind == DefaultKind::System { 1 } else { 2 };
             for d in log

@@ -11,7 +11,7 @@ use ulog_core::export::{self, Added, Compression, Dataset, ExportErrorKind, Opti
 use ulog_core::read::{ReadErrorKind, UtcClock};
 use ulog_core::{LookupError, ReadError};
 
-use crate::failure::{io_text, stdout_err, Failure, Status};
+use crate::failure::{stdout_err, Failure, Status};
 use crate::input;
 use crate::progress::Progress;
 
@@ -34,15 +34,23 @@ use crate::progress::Progress;
 /// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
 ///
 /// With `--per-log`, each log goes to a folder of its own instead: `<log stem>/`
-/// holding `<topic>_<multi_id>.parquet` per topic instance (`/` in a topic name
-/// becomes `_`) and `metadata.json` (information, parameters, logged messages,
-/// dropouts, damage found, topics).
+/// holding `<topic>_<multi_id>.parquet` per topic instance and `metadata.json`
+/// (information, parameters, logged messages, dropouts, damage found, topics). A topic
+/// name that a file system refuses or folds (`a/b`, `CON`, a name of 300 bytes, `Foo`
+/// beside `foo`) is escaped in file and folder names (`a_b~` and a hash of the name;
+/// in a dataset every name with an upper-case letter, since its folders hold every
+/// log's topics): the real name is in each file's metadata (`ulog.topic`).
 ///
 /// Several logs are converted in parallel, each by one thread; a single log is hashed,
 /// then read once, in chunks (never held whole), its row groups encoded in parallel as
 /// it goes.
 /// A log that cannot be read or converted is reported (one line) and the others go
 /// on; the exit status is then that of the first failure, in the order given.
+///
+/// One conversion writes a dataset at a time: another `ulog parquet` into the same
+/// folder meanwhile waits until it is done (it says so on stderr), then adds the logs
+/// the first did not (a lock file, `.ulog-dataset.lock`, names the process holding
+/// it; a lock left by a conversion that was killed is taken over on Linux).
 #[derive(Debug, clap::Args)]
 #[command(
     about = "Logs to one Parquet dataset (a file per topic and log) for SQL",
@@ -145,9 +153,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     } else {
         let dir = dataset_dir(args, &jobs)?;
         made = !dir.exists();
-        let dataset =
-            Dataset::open(&dir, &options).map_err(|e| failure(&dir.display().to_string(), &e))?;
-        Some(dataset)
+        Some(open_dataset(&dir, &options)?)
     };
 
     let total: u64 = jobs.iter().map(|j| j.size).sum();
@@ -245,6 +251,32 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The dataset in `dir`, once no other conversion writes it: while one does (another
+/// `ulog parquet` into the same folder), says so once on stderr and waits for it.
+fn open_dataset(dir: &Path, options: &Options) -> Result<Dataset, Failure> {
+    let mut said = false;
+    loop {
+        match Dataset::open(dir, options) {
+            Err(e) if matches!(e.kind(), ExportErrorKind::Busy { .. }) => {
+                if !said {
+                    if let ExportErrorKind::Busy { owner, lock } = e.kind() {
+                        let _ = writeln!(
+                            io::stderr(),
+                            "ulog: {}: another conversion ({owner}) is writing the dataset: \
+                             waiting for it to end (if none runs, remove {})",
+                            dir.display(),
+                            lock.display()
+                        );
+                    }
+                    said = true;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+            other => return other.map_err(|e| failure(&dir.display().to_string(), &e)),
+        }
+    }
+}
+
 /// The dataset's folder: `-o`, or with one log `<stem>/` beside it.
 fn dataset_dir(args: &Args, jobs: &[Job]) -> Result<PathBuf, Failure> {
     match (&args.output, jobs) {
@@ -267,23 +299,7 @@ fn dataset_dir(args: &Args, jobs: &[Job]) -> Result<PathBuf, Failure> {
 fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
     let mut files = Vec::new();
     for input in &args.inputs {
-        let shown = input.display();
-        let meta =
-            std::fs::metadata(input).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-        if !meta.is_dir() {
-            files.push((input.clone(), meta.len()));
-            continue;
-        }
-        let mut logs = Vec::new();
-        find_logs(input, &mut logs)?;
-        if logs.is_empty() {
-            return Err(Failure::unreadable(
-                &shown,
-                "no .ulg or .ulog files in this directory or its subdirectories",
-            ));
-        }
-        logs.sort();
-        files.extend(logs);
+        files.extend(input::logs_in(input)?);
     }
     let mut jobs: Vec<Job> = Vec::with_capacity(files.len());
     let mut outs = std::collections::HashMap::new();
@@ -304,33 +320,6 @@ fn plan(args: &Args) -> Result<Vec<Job>, Failure> {
         jobs.push(Job { input, out, size });
     }
     Ok(jobs)
-}
-
-/// The logs in `dir` and its subdirectories (not those behind a symbolic link to a
-/// directory, which could loop), with their sizes.
-fn find_logs(dir: &Path, logs: &mut Vec<(PathBuf, u64)>) -> Result<(), Failure> {
-    let shown = dir.display();
-    let entries = std::fs::read_dir(dir).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-    for entry in entries {
-        let entry = entry.map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-        let path = entry.path();
-        let kind = entry
-            .file_type()
-            .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
-        if kind.is_dir() {
-            find_logs(&path, logs)?;
-            continue;
-        }
-        if !input::is_log_name(&path) {
-            continue;
-        }
-        let meta = std::fs::metadata(&path)
-            .map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
-        if meta.is_file() {
-            logs.push((path, meta.len()));
-        }
-    }
-    Ok(())
 }
 
 /// `DIR/<stem>` or, without `-o`, `<stem>` beside the log; the stem is the file name

@@ -45,6 +45,9 @@ use spec::FieldSpec;
 /// Long series are thinned to at most 4 points per pixel column (the first, last, lowest
 /// and highest of each column), so spikes stay visible and files stay small. NaN and
 /// infinite values are left out.
+///
+/// In SVG, characters XML cannot hold (control characters but tab and line breaks,
+/// such as the ESC of a logged message's colours; noncharacters) are drawn as U+FFFD.
 #[derive(Debug, clap::Args)]
 #[command(about = "Plot fields over time as SVG or PNG", long_about)]
 pub struct Args {
@@ -149,14 +152,18 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let file = input::open(&args.file)?;
-    let log = input::parse(&name, file.bytes())?;
-    let start_us = log.start_timestamp();
-    let utc_start = input::utc_clock(&name, &log, args.utc)?.map(|c| c.at(start_us));
+    // One pass in chunks, keeping the metadata (parameter changes, messages) and the
+    // rows of the topics plotted.
+    let topics: Vec<&str> = args.fields.iter().map(|f| f.topic.as_str()).collect();
+    let kept = input::keep(&args.file, &topics)?;
+    let log = kept.log(&name)?;
+    let span = log.span();
+    let start_us = span.start();
+    let utc_start = input::utc_of(&name, || kept.metadata.utc(), args.utc)?.map(|c| c.at(start_us));
 
     let mut all: Vec<Series> = Vec::new();
     for spec in &args.fields {
-        all.extend(series::read(&log, &name, spec, start_us)?);
+        all.extend(series::read(&log, &name, spec, span)?);
     }
     let (x0, x1) = time_axis(&all, args.start, args.end).map_err(|e| Failure::about(&name, e))?;
     let (width, height) = args.size;
@@ -208,7 +215,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let count = |k| marks.iter().filter(|m| m.kind == k).count();
     writeln!(
         std::io::stdout(),
-        "Wrote {shown}: {} line(s), {points} points drawn, {} parameter change marker(s), {} error message marker(s)",
+        "Wrote {shown}: {} line(s), {points} points drawn from {x0:.3} s to {x1:.3} s, {} parameter change marker(s), {} error message marker(s)",
         all.len(),
         count(markers::Kind::Param),
         count(markers::Kind::Error),

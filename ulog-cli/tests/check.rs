@@ -111,7 +111,7 @@ fn timestamps_backwards_and_jumps_per_topic() {
 fn spec_departures_and_damage() {
     let dir = common::scratch("check_spec");
     // Version 1 without flag bits, an unknown message type, a bad log level, some
-    // parameters without defaults, and a cut tail.
+    // parameters without defaults (which the spec allows: no finding), and a cut tail.
     let mut b = LogBuilder::new(1, 0);
     b.format("pos:uint64_t timestamp;float x;");
     b.param("int32_t A", &1i32.to_le_bytes());
@@ -140,18 +140,103 @@ fn spec_departures_and_damage() {
         ("warning", "no_flag_bits"),
         ("warning", "unknown_message_type"),
         ("warning", "invalid_log_level"),
-        ("note", "parameters_without_default"),
     ] {
         assert!(
             k.contains(&(expected.0.to_owned(), expected.1.to_owned())),
             "{expected:?} in {k:?}"
         );
     }
+    assert!(
+        !k.iter().any(|(_, kind)| kind.contains("default")),
+        "defaults for some parameters only are what the spec allows: {k:?}"
+    );
     // Most severe first.
     let order: Vec<&str> = k.iter().map(|(s, _)| s.as_str()).collect();
     let mut sorted = order.clone();
     sorted.sort_by_key(|s| ["error", "warning", "note"].iter().position(|x| x == s));
     assert_eq!(order, sorted);
+}
+
+/// The spec lets a log hold defaults for some parameters or none: `check` says nothing
+/// of it, except where the `DEFAULT_PARAMETERS` flag promises defaults and none follow.
+#[test]
+fn parameters_without_defaults_are_no_finding() {
+    let dir = common::scratch("check_defaults");
+    let with_params = |flag: u8, default: bool| {
+        let mut b = LogBuilder::new(1, 1_000);
+        b.flag_bits([flag, 0, 0, 0, 0, 0, 0, 0], [0; 8], [0; 3]);
+        b.format("pos:uint64_t timestamp;float x;");
+        b.param("int32_t A", &1i32.to_le_bytes());
+        b.param("int32_t B", &2i32.to_le_bytes());
+        if default {
+            b.default_param(1, "int32_t A", &0i32.to_le_bytes());
+        }
+        b.subscribe(0, 1, "pos");
+        for i in 0..5 {
+            pos(&mut b, 1_000 + i * 10_000, 0.0);
+        }
+        b
+    };
+    let none = write(&dir, "none.ulg", &with_params(0, false));
+    let some = write(&dir, "some.ulg", &with_params(1, true));
+    let promised = write(&dir, "promised.ulg", &with_params(1, false));
+    let (j, code) = check_json(&[&none, &some, &promised]);
+    assert_eq!(code, Some(1));
+    for file in &j["files"].as_array().unwrap()[..2] {
+        assert_eq!(file["status"], "ok", "{file}");
+        assert_eq!(file["problems"], Json::Array(vec![]), "{file}");
+    }
+    assert_eq!(
+        kinds(&j["files"][2]),
+        [("warning".to_owned(), "no_default_parameters".to_owned())]
+    );
+    // The corpus (PX4 logs with defaults for some parameters, or none): no word of them.
+    let corpus = common::corpus();
+    let logs = common::corpus_logs(&corpus);
+    let paths: Vec<&Path> = logs.iter().map(|(_, p)| p.as_path()).collect();
+    let (j, _) = check_json(&paths);
+    for ((stem, _), file) in logs.iter().zip(j["files"].as_array().unwrap()) {
+        let k = kinds(file);
+        assert!(
+            !k.iter().any(|(_, kind)| kind.contains("default")),
+            "{stem}: {k:?}"
+        );
+    }
+}
+
+/// A directory is searched as `ulog parquet` searches one: every `.ulg` and `.ulog`
+/// file in it and below, sorted; other files left alone; one without logs unreadable.
+#[test]
+fn directories_are_searched_for_logs() {
+    let dir = common::scratch("check_dir");
+    let mut b = base();
+    pos(&mut b, 1_000, 0.0);
+    std::fs::create_dir_all(dir.join("logs/sub")).unwrap();
+    std::fs::create_dir_all(dir.join("empty")).unwrap();
+    let a = write(&dir, "logs/b.ulg", &b);
+    let c = write(&dir, "logs/sub/a.ULOG", &b);
+    std::fs::write(dir.join("logs/notes.txt"), "not a log").unwrap();
+    let (j, code) = check_json(&[&dir.join("logs")]);
+    assert_eq!(code, Some(0));
+    let files: Vec<&str> = j["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect();
+    let expected = [a.display().to_string(), c.display().to_string()];
+    assert_eq!(files, expected);
+    let (j, code) = check_json(&[&dir.join("empty"), &a]);
+    assert_eq!(code, Some(3));
+    assert_eq!(j["files"][0]["status"], "unreadable");
+    assert!(
+        j["files"][0]["error"]
+            .as_str()
+            .unwrap()
+            .contains("no .ulg or .ulog files"),
+        "{j}"
+    );
+    assert_eq!(j["files"][1]["status"], "ok");
 }
 
 #[test]

@@ -135,8 +135,8 @@ fn writes_to_a_file_and_names_the_runtime_crate() {
     ]);
     assert!(printed.is_empty());
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.contains("::my_ulog::ULogMessage"));
-    assert!(text.contains("::my_ulog::typed::WireField"));
+    assert!(text.contains("::my_ulog::typed::__private"));
+    assert!(text.contains("::my_ulog::typed::BindingVisitor"));
     assert!(!text.contains("::ulog_core::"));
 }
 
@@ -150,10 +150,12 @@ fn every_format_of_every_corpus_log() {
         let text = common::ulog_ok(["codegen".as_ref(), path.as_os_str()]);
         let bytes = std::fs::read(&path).unwrap();
         let log = ULog::parse(&bytes).unwrap();
+        // Each struct's first doc line: "The ULog message `name`: `FORMAT`".
         let documented: BTreeSet<&str> = text
             .lines()
-            .filter_map(|l| l.strip_prefix("/// "))
-            .filter(|l| l.contains(':') && !l.starts_with('`') && !l.starts_with("The ULog"))
+            .filter_map(|l| l.strip_prefix("/// The ULog message `"))
+            .filter_map(|l| l.split_once("`: `"))
+            .filter_map(|(_, f)| f.strip_suffix('`'))
             .collect();
         for format in log.formats() {
             let canonical = format.to_string();
@@ -206,11 +208,91 @@ fn formats_that_cannot_be_bound_are_listed_and_not_counted() {
     );
     assert!(source.contains("pub struct Ok "), "{source}");
     for name in ["broken", "uses_broken"] {
-        let line = format!("// Skipped: format `{name}`:");
+        let line = format!("// Not bound: format `{name}`:");
         assert!(source.contains(&line), "{name}: {source}");
         assert!(
-            stderr.contains(&format!("skipped format `{name}`")),
+            stderr.contains(&format!("not bound: format `{name}`")),
             "{stderr}"
         );
     }
+}
+
+/// Formats defined after data are bound; every format the command cannot bind is
+/// named on stderr with why, the text that does not parse at its offset in the file.
+#[test]
+fn formats_after_data_are_bound_and_every_other_is_named() {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    b.format("first:uint64_t timestamp;");
+    b.subscribe(0, 0, "first");
+    b.data(0, &1u64.to_le_bytes());
+    b.format("later:uint64_t timestamp;uint8_t x;");
+    b.format("odd:uint64_t timestamp;float32 x;");
+    let bad_at = b.bytes().len();
+    b.format("no colon here");
+    let invalid_at = b.bytes().len() + 3;
+    b.format("bad name:uint8_t x;");
+    let path = common::scratch("codegen_after_data").join("after_data.ulg");
+    std::fs::write(&path, b.bytes()).unwrap();
+    let out = common::ulog(["codegen".as_ref(), path.as_os_str()]);
+    assert!(out.status.success(), "{out:?}");
+    let source = String::from_utf8(out.stdout).unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        source.starts_with("// Bindings for the 2 formats of `after_data.ulg`"),
+        "{source}"
+    );
+    assert!(source.contains("pub struct Later "), "{source}");
+    assert!(
+        stderr.contains("not bound: format `odd`: unknown type `float32` (did you mean `float`?)"),
+        "{stderr}"
+    );
+    assert!(
+        source.contains("// Not bound: format `odd`: unknown type `float32`"),
+        "{source}"
+    );
+    assert!(
+        stderr.contains(&format!(
+            "not bound: the format at byte {bad_at}: malformed 'F' message"
+        )),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!(
+            "not bound: the format at byte {invalid_at}: invalid format definition: character ' '"
+        )),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 3, "{stderr}");
+    assert!(
+        source.contains("// Not bound: a format text that does not parse: character ' '"),
+        "{source}"
+    );
+
+    // `--messages` picks formats (with the ones they nest); a name the log does not
+    // have is refused with the nearest one.
+    let out = common::ulog([
+        "codegen".as_ref(),
+        path.as_os_str(),
+        "-m".as_ref(),
+        "later".as_ref(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let source = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        source.starts_with("// Bindings for the 1 format of"),
+        "{source}"
+    );
+    assert!(out.stderr.is_empty(), "{:?}", out.stderr);
+    let out = common::ulog([
+        "codegen".as_ref(),
+        path.as_os_str(),
+        "-m".as_ref(),
+        "latr".as_ref(),
+    ]);
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("the log has no format `latr` (did you mean `later`?)"),
+        "{stderr}"
+    );
 }

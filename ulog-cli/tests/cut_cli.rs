@@ -151,6 +151,113 @@ fn cut_failures_are_one_line_with_their_status() {
         .all(|f| !f.is_damage()));
 }
 
+/// A window that holds no time (6), or none of the log's data (7), is an error with
+/// one line saying why, and no output file, partial or whole, is left behind.
+#[test]
+fn empty_and_inverted_windows_are_refused_and_write_nothing() {
+    let log = common::sample_file("cut_empty");
+    let dir = log.parent().unwrap().to_owned();
+    let bytes = std::fs::read(&log).unwrap();
+    let original = ULog::parse(&bytes).unwrap();
+    let start = original.start_timestamp();
+    let end_s = (original.last_timestamp() - start) as f64 / 1e6;
+    let out_path = dir.join("out.ulg");
+    let partial = dir.join("out.ulg.partial");
+    let run = |extra: &[&str], status: i32| {
+        let mut args = vec![
+            "cut",
+            log.to_str().unwrap(),
+            "-o",
+            out_path.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = common::ulog(args);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(status), "{extra:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{extra:?}: {stderr}");
+        assert!(!out_path.exists(), "{extra:?}: an output was left");
+        assert!(!partial.exists(), "{extra:?}: a partial output was left");
+        stderr
+    };
+    let after = format!("{}", end_s + 10.0);
+    let later = format!("{}", end_s + 20.0);
+    let us = |t: u64| t.to_string();
+    // 6: a window that cannot hold anything; 7: the log has no data in it.
+    for (extra, says, status) in [
+        (
+            vec!["--start", "30", "--end", "20"],
+            "--start 30 s is not before --end 20 s",
+            6,
+        ),
+        (
+            vec!["--start", "5", "--end", "5"],
+            "--start 5 s is not before --end 5 s",
+            6,
+        ),
+        (
+            vec!["--start-us", &us(start + 2), "--end-us", &us(start + 1)],
+            "is not before --end-us",
+            6,
+        ),
+        (
+            vec!["--start", "1", "--end-us", &us(start)],
+            "the window is empty",
+            6,
+        ),
+        (vec!["--start", &after], "no data in the window", 7),
+        (
+            vec!["--start", &after, "--end", &later],
+            "no data in the window",
+            7,
+        ),
+        (
+            vec!["--end-us", &us(start.saturating_sub(1))],
+            "no data in the window",
+            7,
+        ),
+    ] {
+        let stderr = run(&extra, status);
+        assert!(stderr.contains(says), "{extra:?}: {stderr}");
+    }
+    // Where the data is, for a window past it.
+    let stderr = run(&["--start", &after], 7);
+    let first = original
+        .topics()
+        .flat_map(|t| t.timestamps())
+        .min()
+        .unwrap();
+    let span = format!(
+        "the log's data runs from {:.3} s to {:.3} s",
+        (first as f64 - start as f64) / 1e6,
+        end_s
+    );
+    assert!(stderr.contains(&span), "{stderr}");
+    // A topic with data, but none of it in the window.
+    let topic = original
+        .topics()
+        .filter(|t| t.len() > 1 && t.timestamp_field().is_some())
+        .min_by_key(|t| t.timestamps().last().copied())
+        .expect("a topic with rows");
+    let its_last = *topic.timestamps().last().unwrap();
+    assert!(
+        its_last < original.last_timestamp(),
+        "another topic runs on"
+    );
+    let from = format!("{}", (its_last + 1 - start) as f64 / 1e6 + 1e-6);
+    let stderr = run(&["--start", &from, "-m", topic.name()], 7);
+    assert!(stderr.contains("no data of the topics chosen"), "{stderr}");
+    // The same window of every topic is a cut.
+    common::ulog_ok([
+        "cut",
+        log.to_str().unwrap(),
+        "-o",
+        out_path.to_str().unwrap(),
+        "--start",
+        &from,
+    ]);
+    assert!(out_path.exists());
+}
+
 #[test]
 fn anonymise_leaves_out_the_identity_and_moves_positions_as_asked() {
     use ulog_core::testing::LogBuilder;

@@ -72,7 +72,7 @@ fn defaults_of_a_log_without_them() {
             "system".as_ref(),
         ],
         "no default parameters",
-        6,
+        7,
     );
 }
 

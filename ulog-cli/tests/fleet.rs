@@ -9,6 +9,9 @@
 //! - The same logs converted twice give the same bytes; adding a log adds only its
 //!   files (and rewrites the four tables with its rows); a log that fails is reported
 //!   and the rest go on.
+//! - Two conversions into one dataset at once (two processes): the second waits for
+//!   the first, both succeed, and the dataset is the one a single conversion writes,
+//!   every file readable (by the `parquet` crate, and by DuckDB where it is).
 
 mod common;
 
@@ -17,6 +20,7 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value as Json;
+use ulog_core::export;
 use ulog_core::export::arrow_array::cast::AsArray;
 use ulog_core::export::arrow_array::types::{
     Float64Type, TimestampMicrosecondType, UInt32Type, UInt64Type,
@@ -384,11 +388,9 @@ fn the_table_of_logs_says_what_the_reader_says() {
             log.release_version("ver_sw_release").map(|r| r.to_string()),
             "{what}"
         );
-        assert_eq!(
-            u64s("start_timestamp").value(i),
-            log.start_timestamp(),
-            "{what}"
-        );
+        // Times by the log's span, the one rule for where a log starts and ends.
+        let span = log.span();
+        assert_eq!(u64s("start_timestamp").value(i), span.start(), "{what}");
         let utc = table
             .column_by_name("start_utc")
             .unwrap()
@@ -396,7 +398,7 @@ fn the_table_of_logs_says_what_the_reader_says() {
         let clock = log.utc();
         assert_eq!(
             utc.is_valid(i).then(|| utc.value(i)),
-            clock.as_ref().map(|c| c.at(log.start_timestamp()).micros()),
+            clock.as_ref().map(|c| c.at(span.start()).micros()),
             "{what}: UTC start, by ULog::utc's rule"
         );
         assert_eq!(
@@ -410,7 +412,7 @@ fn the_table_of_logs_says_what_the_reader_says() {
             .as_primitive::<Float64Type>();
         assert_eq!(
             duration.value(i),
-            (log.last_timestamp() - log.start_timestamp()) as f64 / 1e6,
+            (span.end() - span.start()) as f64 / 1e6,
             "{what}"
         );
         let topics = log.topics().filter(|t| !t.is_empty()).count() as u32;
@@ -571,6 +573,101 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
         1,
         "the log in the subfolder is in"
     );
+}
+
+/// Every file under `dir` whose name ends in `suffix`.
+fn ending_in(dir: &Path, suffix: &str) -> Vec<PathBuf> {
+    files(dir)
+        .into_keys()
+        .filter(|p| p.to_string_lossy().ends_with(suffix))
+        .collect()
+}
+
+/// `ulog parquet LOGS -o DIR` started as a process, its output captured.
+fn start(logs: &[PathBuf], dir: &Path) -> std::process::Child {
+    std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
+        .arg("parquet")
+        .args(logs)
+        .arg("-o")
+        .arg(dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start ulog")
+}
+
+#[test]
+fn two_conversions_at_once_both_land() {
+    let scratch = common::scratch("fleet_concurrent");
+    let logs: Vec<PathBuf> = logs().into_iter().take(4).collect();
+    let single = scratch.join("single");
+    assert!(convert(&logs, &single, &[]).status.success());
+
+    // Two processes of the same logs into one folder, started together.
+    let dir = scratch.join("dataset");
+    let (a, b) = (start(&logs, &dir), start(&logs, &dir));
+    for out in [a.wait_with_output().unwrap(), b.wait_with_output().unwrap()] {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        // Waited, or ran alone.
+        assert!(
+            stderr.is_empty() || stderr.contains("waiting for it to end"),
+            "{stderr}"
+        );
+    }
+    assert!(ending_in(&dir, ".partial").is_empty());
+    assert!(!dir.join(export::LOCK_FILE).exists());
+    assert_eq!(files(&dir), files(&single), "the dataset of one conversion");
+    let parquet = ending_in(&dir, ".parquet");
+    for rel in &parquet {
+        assert!(read(&dir.join(rel)).num_rows() > 0, "{}", rel.display());
+    }
+    assert_eq!(read(&dir.join("logs.parquet")).num_rows(), logs.len());
+    if cfg!(query_engines) {
+        let script = "import duckdb, sys\n\
+            for p in sys.argv[2:]:\n\
+            \x20   duckdb.sql(f\"SELECT count(*) FROM read_parquet('{sys.argv[1]}/{p}')\").fetchall()\n\
+            print(len(sys.argv) - 2)";
+        let mut args: Vec<std::ffi::OsString> =
+            vec!["-c".into(), script.into(), dir.clone().into()];
+        args.extend(parquet.iter().map(|p| p.as_os_str().to_owned()));
+        let read = common::python(args);
+        assert_eq!(
+            String::from_utf8_lossy(&read).trim(),
+            parquet.len().to_string()
+        );
+    }
+
+    // While another process holds the lock, a conversion waits, then lands; the
+    // temporary files a conversion that died left behind are removed.
+    let held = scratch.join("held");
+    std::fs::create_dir_all(held.join("vehicle_status")).unwrap();
+    let lock = held.join(export::LOCK_FILE);
+    std::fs::write(
+        &lock,
+        format!("pid {}\nhost elsewhere\n", std::process::id()),
+    )
+    .unwrap();
+    let left = held
+        .join("vehicle_status")
+        .join("0123.parquet.99-0.partial");
+    std::fs::write(&left, b"half a file").unwrap();
+    let mut waiting = start(&logs, &held);
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(waiting.try_wait().unwrap().is_none(), "it waits");
+    assert!(!held.join("logs.parquet").exists());
+    std::fs::remove_file(&lock).unwrap();
+    let out = waiting.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("another conversion (process")
+            && stderr.contains("waiting for it to end")
+            && stderr.contains(export::LOCK_FILE),
+        "{stderr}"
+    );
+    assert!(!left.exists(), "the leftover is removed");
+    assert_eq!(files(&held), files(&single));
 }
 
 #[test]

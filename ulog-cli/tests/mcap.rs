@@ -111,6 +111,14 @@ fn digest(lines: &[Vec<String>]) -> String {
 /// schema, and the lines the script hashes.
 fn expected(log: &ULog<'_>, json: bool) -> BTreeMap<String, (String, Vec<Vec<String>>)> {
     let mut channels = BTreeMap::new();
+    // Each message's log time and publish time: the time it was recorded, placed
+    // in the log's span (before it: at the start; after it: at the end), and its
+    // own timestamp.
+    let span = log.span();
+    let times = |t: u64| {
+        let recorded = t.clamp(span.start(), span.end());
+        [(recorded * 1000).to_string(), (t * 1000).to_string()]
+    };
     for topic in log.topics() {
         let Ok(layout) = topic.layout() else { continue };
         if topic.is_empty() {
@@ -125,7 +133,7 @@ fn expected(log: &ULog<'_>, json: bool) -> BTreeMap<String, (String, Vec<Vec<Str
         let mut lines = Vec::new();
         for p in topic.payloads() {
             let t = clock.push(p).expect("a timestamp");
-            let mut line = vec![(t * 1000).to_string()];
+            let mut line = times(t).to_vec();
             flatten(layout, p, 0, json, &mut line);
             lines.push(line);
         }
@@ -148,7 +156,7 @@ fn expected(log: &ULog<'_>, json: bool) -> BTreeMap<String, (String, Vec<Vec<Str
         };
         let text = m.text.to_string_lossy();
         let text = text.split('\0').next().unwrap_or("").to_owned();
-        let mut line = vec![(m.timestamp * 1000).to_string()];
+        let mut line = times(m.timestamp).to_vec();
         line.extend(stamp(m.timestamp * 1000));
         line.extend([
             level.to_string(),
@@ -165,7 +173,7 @@ fn expected(log: &ULog<'_>, json: bool) -> BTreeMap<String, (String, Vec<Vec<Str
     }
     // Parameters: the initial values at the start, then each change.
     let param = |t: u64, kv: &ulog_core::read::KeyValue<'_>, initial: bool| {
-        let mut line = vec![(t * 1000).to_string()];
+        let mut line = times(t).to_vec();
         line.extend(stamp(t * 1000));
         line.push(kv.name().into_owned());
         line.push(float_text(kv.value().as_f64().unwrap_or(f64::NAN), json));
@@ -175,7 +183,7 @@ fn expected(log: &ULog<'_>, json: bool) -> BTreeMap<String, (String, Vec<Vec<Str
     let mut params: Vec<Vec<String>> = log
         .initial_params()
         .iter()
-        .map(|kv| param(log.start_timestamp(), kv, true))
+        .map(|kv| param(span.start(), kv, true))
         .collect();
     params.extend(
         log.param_changes()
@@ -385,9 +393,9 @@ fn a_window_of_topics_in_utc() {
         "mcap",
         "--utc",
         "--start",
-        "3",
+        "2",
         "--end",
-        "6",
+        "5",
         "-m",
         "vehicle_local_position",
     ];
@@ -398,7 +406,8 @@ fn a_window_of_topics_in_utc() {
     let channels = read["channels"].as_object().unwrap();
     assert_eq!(channels.len(), 2, "{channels:?}");
     let c = &channels["/fmu/out/vehicle_local_position"];
-    // 3 s to 6 s since the start (timestamp 0), both ends in.
+    // 2 s to 5 s since the start, both ends in: the header has no time, so the log
+    // starts at its first timestamp, 1 s after boot (`TimeSpan`).
     assert_eq!(c["count"], 4);
     assert_eq!(c["first_log_time"], (boot + 3_000_000) * 1000);
     assert_eq!(c["last_log_time"], (boot + 6_000_000) * 1000);
@@ -412,7 +421,7 @@ fn a_window_of_topics_in_utc() {
         let n = ns(us);
         let bits = f64::from(value).to_bits();
         format!(
-            "{n} {} {} MPC_XY_P {bits} {}",
+            "{n} {n} {} {} MPC_XY_P {bits} {}",
             n / 1_000_000_000,
             n % 1_000_000_000,
             u8::from(initial)

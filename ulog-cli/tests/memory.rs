@@ -3,7 +3,9 @@
 //! limited (`ulimit -d`, which on Linux counts the heap and private writable mappings)
 //! to twice the input plus a fixed allowance, and must succeed under it. And `ulog
 //! report` of a long log, under a limit well below the log's size: it reads the file
-//! in passes, never all of it at once.
+//! in passes, never all of it at once; and the commands that need only the metadata
+//! (`info`, `messages`, `params`, `codegen`, and `plot` of a slow topic) under a
+//! limit of 32 MiB whatever the log's size: they read it once, in chunks.
 
 mod common;
 
@@ -216,6 +218,36 @@ fn a_report_stays_far_below_the_logs_size() {
     );
     let text = std::fs::read_to_string(&page).unwrap();
     assert!(text.contains("Roll angle"), "the attitude is drawn");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `info`, `messages`, `params`, `codegen` and `plot` of a slow topic, of a log of
+/// 128 MiB, run under 32 MiB: one pass in chunks keeps only the metadata (and the
+/// rows plotted).
+#[test]
+fn metadata_commands_stay_within_32_mib() {
+    let dir = common::scratch("memory_metadata");
+    let log = dir.join("long.ulg");
+    std::fs::write(&log, long_flight(128)).unwrap();
+    let log_arg = log.to_str().unwrap();
+    let svg = dir.join("battery.svg");
+    for args in [
+        &["info", log_arg][..],
+        &["info", "--json", log_arg],
+        &["messages", log_arg],
+        &["params", log_arg, "-t"],
+        &["codegen", log_arg],
+        // The rows of the topic plotted are kept, not the others'.
+        &[
+            "plot",
+            log_arg,
+            "battery_status.voltage_v",
+            "-o",
+            svg.to_str().unwrap(),
+        ],
+    ] {
+        run_under(32, args);
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

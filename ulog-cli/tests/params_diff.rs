@@ -426,18 +426,21 @@ fn errors_have_the_statuses_of_their_kind() {
         not_ulog.as_os_str(),
     ]);
     assert_eq!(code, Some(4), "{err}");
-    // A log without defaults: 6, naming it, as `ulog params -d` says it.
-    let (code, err) = status(&[p("params"), a.as_os_str(), p("--diff-defaults")]);
-    assert_eq!(code, Some(6), "{err}");
-    assert_eq!(
-        err.trim_end(),
+    // A log without defaults: 7 (the log lacks what the option needs), one line
+    // naming the log and the option, as `ulog params -d` says it.
+    let lacking = |option: &str| {
         format!(
-            "ulog: {}: the log has no default parameters (compat flag DEFAULT_PARAMETERS is not set)",
+            "ulog: {}: {option}: the log has no default parameters to compare with (compat \
+             flag DEFAULT_PARAMETERS is not set; `--diff B.ulg` compares with another log)",
             a.display()
         )
-    );
+    };
+    let (code, err) = status(&[p("params"), a.as_os_str(), p("--diff-defaults")]);
+    assert_eq!(code, Some(7), "{err}");
+    assert_eq!(err.trim_end(), lacking("--diff-defaults"));
     let (code, dash_d) = status(&[p("params"), a.as_os_str(), p("-d"), p("system")]);
-    assert_eq!((code, dash_d), (Some(6), err));
+    assert_eq!(code, Some(7), "{dash_d}");
+    assert_eq!(dash_d.trim_end(), lacking("--default"));
     // Usage errors: 2.
     for args in [
         vec![p("params"), a.as_os_str(), p("-f"), p("json")],

@@ -1,5 +1,6 @@
 //! `ulog parquet` on the bundled sample log: where files go, failures (one line, a
-//! distinct exit status each), many logs in one call, in parallel or not.
+//! distinct exit status each), many logs in one call, in parallel or not; and topic
+//! names that file systems refuse or fold, in a dataset, `--per-log` and `ulog csv`.
 
 mod common;
 
@@ -259,4 +260,186 @@ fn each_codec_is_what_the_files_say_and_the_values_are_the_same() {
         "uncompressed reads back as snappy does"
     );
     assert!(sizes[1] < sizes[2], "zstd {} < none {}", sizes[1], sizes[2]);
+}
+
+/// A log of topics named as file systems refuse or fold them (Windows's device names,
+/// names that differ only in case, `a/b` beside `a_b`, 300 bytes), each with `1 + i`
+/// rows holding its number `i`.
+fn awkward_names() -> (Vec<u8>, Vec<String>) {
+    let long = format!("long_{}", "y".repeat(295));
+    let names: Vec<String> = [
+        "CON",
+        "aux",
+        "nul",
+        "com1",
+        "LPT9",
+        "FOO",
+        "Foo",
+        "foo",
+        "a/b",
+        "a_b",
+        &long,
+        "vehicle_status",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    for name in &names {
+        b.format(&format!("{name}:uint64_t timestamp;uint32_t n;"));
+    }
+    // Formats first, as PX4 writes them: in the data section, a format whose name is
+    // this long is not told from garbage.
+    for (i, name) in names.iter().enumerate() {
+        b.subscribe(0, i as u16, name);
+    }
+    for i in 0..names.len() {
+        for row in 0..=i as u64 {
+            let mut p = (1000 + row).to_le_bytes().to_vec();
+            p.extend_from_slice(&(i as u32).to_le_bytes());
+            b.data(i as u16, &p);
+        }
+    }
+    (b.into_bytes(), names)
+}
+
+/// Whether `name` is a valid file name on Windows, macOS and Linux alike.
+fn portable(name: &str) -> bool {
+    let stem = name.split('.').next().unwrap_or("").to_ascii_uppercase();
+    let devices = ["CON", "PRN", "AUX", "NUL"];
+    let numbered = stem.len() == 4
+        && (stem.starts_with("COM") || stem.starts_with("LPT"))
+        && stem.as_bytes()[3].is_ascii_digit();
+    !name.is_empty()
+        && name.len() <= 255
+        && name.is_ascii()
+        && !name
+            .chars()
+            .any(|c| c.is_control() || r#"<>:"/\|?*"#.contains(c))
+        && !name.ends_with(['.', ' '])
+        && !devices.contains(&stem.as_str())
+        && !numbered
+}
+
+/// Every file name in `dir` (one level), checked portable and distinct in any case.
+fn portable_names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut folded = std::collections::HashSet::new();
+    for n in &names {
+        assert!(portable(n), "{n}");
+        assert!(folded.insert(n.to_lowercase()), "{n} meets another name");
+    }
+    names
+}
+
+#[test]
+fn topic_names_file_systems_refuse_or_fold_keep_every_row() {
+    let dir = common::scratch("parquet_awkward");
+    let (bytes, names) = awkward_names();
+    let log = dir.join("awkward.ulg");
+    std::fs::write(&log, bytes).unwrap();
+
+    // A dataset: a folder per topic, every topic's rows in it.
+    let ds = dir.join("dataset");
+    common::ulog_ok([
+        "parquet".as_ref(),
+        log.as_os_str(),
+        "-o".as_ref(),
+        ds.as_os_str(),
+    ]);
+    let folders: Vec<String> = portable_names(&ds)
+        .into_iter()
+        .filter(|n| ds.join(n).is_dir())
+        .collect();
+    assert_eq!(folders.len(), names.len(), "{folders:?}");
+    // `--per-log`: a file per topic instance.
+    let per_log = dir.join("per_log");
+    common::ulog_ok([
+        "parquet".as_ref(),
+        "--per-log".as_ref(),
+        log.as_os_str(),
+        "-o".as_ref(),
+        per_log.as_os_str(),
+    ]);
+    let files = portable_names(&per_log.join("awkward"));
+    assert_eq!(
+        files.iter().filter(|f| f.ends_with(".parquet")).count(),
+        names.len()
+    );
+    assert!(files.contains(&"vehicle_status_0.parquet".to_owned()));
+    assert!(files.contains(&"foo_0.parquet".to_owned()));
+    // CSV: a file per topic instance, pyulog's names for the plain ones.
+    let csv = dir.join("csv");
+    std::fs::create_dir_all(&csv).unwrap();
+    common::ulog_ok([
+        "csv".as_ref(),
+        log.as_os_str(),
+        "-o".as_ref(),
+        csv.as_os_str(),
+    ]);
+    let csvs = portable_names(&csv);
+    assert_eq!(csvs.len(), names.len(), "{csvs:?}");
+    assert!(csvs.contains(&"awkward_vehicle_status_0.csv".to_owned()));
+    assert!(csvs.contains(&"awkward_a_b_0.csv".to_owned()));
+    for (i, _) in names.iter().enumerate() {
+        let n = i.to_string();
+        let holding = csvs
+            .iter()
+            .filter(|f| {
+                let text = std::fs::read_to_string(csv.join(f)).unwrap();
+                let rows: Vec<&str> = text.lines().skip(1).collect();
+                rows.len() == i + 1 && rows.iter().all(|r| r.ends_with(&format!(",{n}")))
+            })
+            .count();
+        assert_eq!(holding, 1, "the rows of topic {i}");
+    }
+
+    // Each topic found by its real name, with its rows: by DuckDB where it is, by
+    // the files' metadata otherwise.
+    for (i, name) in names.iter().enumerate() {
+        let expected = format!("{}", i + 1);
+        if cfg!(query_engines) {
+            let script = "import duckdb, sys\n\
+                f = duckdb.execute(\"SELECT file_name FROM parquet_kv_metadata(? || '/*/*.parquet') \
+                WHERE decode(key) = 'ulog.topic' AND decode(value) = ?\", [sys.argv[1], sys.argv[2]]).fetchall()\n\
+                assert len(f) == 1, f\n\
+                print(duckdb.execute('SELECT count(*) FROM read_parquet(?) WHERE n = ?', \
+                [f[0][0], int(sys.argv[3])]).fetchone()[0])";
+            let out = common::python([
+                "-c".as_ref(),
+                script.as_ref(),
+                ds.as_os_str(),
+                name.as_ref(),
+                i.to_string().as_ref() as &std::ffi::OsStr,
+            ]);
+            assert_eq!(String::from_utf8_lossy(&out).trim(), expected, "{name}");
+        } else {
+            let found: Vec<i64> = folders
+                .iter()
+                .flat_map(|f| std::fs::read_dir(ds.join(f)).unwrap())
+                .map(|e| e.unwrap().path())
+                .filter_map(|p| {
+                    let file = std::fs::File::open(&p).unwrap();
+                    let reader =
+                        ulog_core::export::parquet::file::reader::SerializedFileReader::new(file)
+                            .unwrap();
+                    use ulog_core::export::parquet::file::reader::FileReader;
+                    let meta = reader.metadata().file_metadata();
+                    let topic = meta
+                        .key_value_metadata()?
+                        .iter()
+                        .find(|kv| kv.key == "ulog.topic")?
+                        .value
+                        .clone()?;
+                    (topic == *name).then_some(meta.num_rows())
+                })
+                .collect();
+            assert_eq!(found, [i as i64 + 1], "{name}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -347,6 +347,23 @@ fn unknown_field_names_the_closest() {
     assert_fails(&out, 5, &["no field `zz`", "did you mean `z`"]);
     let out = plot(&["plot", s(&file), "esc_status.esc"]);
     assert_fails(&out, 5, &["`esc` is a group of fields", "esc[0]."]);
+    // Nothing close (pyulog users ask for `roll`; PX4 logs a quaternion): the fields
+    // the topic has, read from the log.
+    let out = plot(&["plot", s(&file), "vehicle_attitude.roll"]);
+    let bytes = std::fs::read(&file).unwrap();
+    let log = ulog_core::ULog::parse(&bytes).unwrap();
+    let layout = log.topic("vehicle_attitude", 0).unwrap().layout().unwrap();
+    let listed: Vec<String> = layout
+        .fields()
+        .iter()
+        .filter(|f| !f.is_padding())
+        .map(|f| match f.array_len {
+            Some(n) => format!("`{}[{n}]`", f.name),
+            None => format!("`{}`", f.name),
+        })
+        .collect();
+    let listed = format!("(its fields: {})", listed.join(", "));
+    assert_fails(&out, 5, &["has no field `roll`", &listed]);
     assert!(!file.with_file_name("sample_plot.svg").exists());
 }
 

@@ -106,9 +106,12 @@ fn log_path(stem: &str) -> PathBuf {
     common::corpus().join("files").join(format!("{stem}.ulg"))
 }
 
-/// Writes the report of a corpus log and returns its path and text.
-fn report(stem: &str) -> (PathBuf, String) {
-    let dir = common::scratch(&format!("report-{stem}"));
+/// Writes the report of a corpus log and returns its path and text. `test` names the
+/// calling test: tests run in parallel and several report the same log, so each writes
+/// into a folder of its own (one shared folder was emptied by one test while another's
+/// browser opened the page in it).
+fn report(test: &str, stem: &str) -> (PathBuf, String) {
+    let dir = common::scratch(&format!("report-{test}-{stem}"));
     let out = dir.join(format!("{stem}.html"));
     let log = log_path(stem);
     let said = common::ulog_ok([
@@ -162,7 +165,7 @@ fn assert_self_contained(stem: &str, html: &str) {
 )]
 fn each_kind_of_log_gives_a_page_with_its_plots_and_notes() {
     for (stem, plots) in [NEW_2024, OLD_2016, NOT_PX4, DAMAGED] {
-        let (_, html) = report(stem);
+        let (_, html) = report("kinds", stem);
         assert_self_contained(stem, &html);
         let data = page_data(&html);
         assert_eq!(plot_ids(&data), *plots, "{stem}: the plots");
@@ -199,13 +202,13 @@ fn each_kind_of_log_gives_a_page_with_its_plots_and_notes() {
         }
     }
     // Damage: the mid-stream runs of zeros, and the 2016 log's truncated end.
-    let (_, html) = report(DAMAGED.0);
+    let (_, html) = report("kinds", DAMAGED.0);
     let damage = row(&html, "Damage");
     assert!(damage.contains("finding(s)"), "{damage}");
-    let (_, html) = report(OLD_2016.0);
+    let (_, html) = report("kinds", OLD_2016.0);
     let damage = row(&html, "Damage");
     assert!(damage.contains("ends inside a message"), "{damage}");
-    let (_, html) = report(NEW_2024.0);
+    let (_, html) = report("kinds", NEW_2024.0);
     assert_eq!(row(&html, "Damage"), "none found");
     assert!(row(&html, "Start").starts_with("2024-02-06T08:25:44"));
     assert!(row(&html, "Software").starts_with("v1.14.0"));
@@ -263,7 +266,7 @@ fn voltage_at(stem: &str, timestamp: u64) -> f32 {
 )]
 fn pages_draw_zoom_together_hover_reader_values_and_list_every_message() {
     for (stem, plots) in [NEW_2024, OLD_2016, NOT_PX4, DAMAGED] {
-        let (page, _) = report(stem);
+        let (page, _) = report("browse", stem);
         let r = browse(&page, "battery", None);
         assert_eq!(r["errors"], serde_json::json!([]), "{stem}: console errors");
         assert_eq!(r["requests"], serde_json::json!([]), "{stem}: requests");
@@ -398,7 +401,7 @@ fn a_long_log_gives_a_small_page_in_bounded_memory() {
 )]
 fn every_corpus_logs_page_opens_cleanly_and_draws_every_plot() {
     for (stem, _) in common::corpus_logs(&common::corpus()) {
-        let (page, html) = report(&stem);
+        let (page, html) = report("every", &stem);
         let r = browse(&page, "battery", None);
         assert_eq!(r["errors"], serde_json::json!([]), "{stem}: console errors");
         assert_eq!(r["requests"], serde_json::json!([]), "{stem}: requests");
@@ -413,4 +416,199 @@ fn every_corpus_logs_page_opens_cleanly_and_draws_every_plot() {
             "{stem}: rows of the messages table"
         );
     }
+}
+
+/// A log with what PX4 puts in its information: an xz-compressed blob in a `uint8_t`
+/// array split over continued parts (`metadata_events`), perf counters one line per
+/// part, the boot console in chunks cut anywhere, a list of entries, and a short
+/// array value. Returns the log's path and the blob.
+fn information_log(dir: &Path) -> (PathBuf, Vec<u8>) {
+    let mut rng = ulog_core::testing::Rng::new(48);
+    let mut blob = b"\xfd7zXZ\x00".to_vec();
+    blob.extend((6..3000).map(|_| rng.below(256) as u8));
+    let mut b = ulog_core::testing::LogBuilder::new(1, 1_000_000);
+    b.info("char[3] sys_name", b"PX4");
+    b.info("uint8_t[4] small", &[1, 2, 3, 0xfe]);
+    for (i, part) in blob.chunks(1200).enumerate() {
+        let key = format!("uint8_t[{}] metadata_events", part.len());
+        b.multi_info(i > 0, &key, part);
+    }
+    for i in 0..40 {
+        let line = format!("counter_{i}: {i} events");
+        let key = format!("char[{}] perf_counter_preflight", line.len());
+        b.multi_info(i > 0, &key, line.as_bytes());
+    }
+    let console: String = (0..30).map(|i| format!("line {i} <&>\n")).collect();
+    for (i, chunk) in console.as_bytes().chunks(50).enumerate() {
+        let key = format!("char[{}] boot_console_output", chunk.len());
+        b.multi_info(i > 0, &key, chunk);
+    }
+    for topic in ["a", "b", "c"] {
+        b.multi_info(false, "char[1] excluded_optional_topics", topic.as_bytes());
+    }
+    b.format("pos:uint64_t timestamp;float x;");
+    b.subscribe(0, 0, "pos");
+    for i in 0..200u64 {
+        let t = 1_000_000 + i * 10_000;
+        b.data(
+            0,
+            &[&t.to_le_bytes()[..], &(i as f32).sin().to_le_bytes()].concat(),
+        );
+    }
+    let path = dir.join("information.ulg");
+    std::fs::write(&path, b.bytes()).unwrap();
+    (path, blob)
+}
+
+/// The value cell of the information or multi-information row of `key`.
+fn info_cell<'h>(html: &'h str, key: &str) -> &'h str {
+    let start = format!("<tr><td>{key}</td><td>");
+    let at = html.find(&start).unwrap_or_else(|| panic!("row {key}")) + start.len();
+    &html[at..at + html[at..].find("</td></tr>").unwrap()]
+}
+
+/// Binary values show as their size and kind with a link that downloads them, never
+/// as Python's bytes; long texts are folded under their first line.
+#[test]
+fn information_shows_bytes_by_kind_and_folds_long_texts() {
+    let dir = common::scratch("report-information");
+    let (log, _) = information_log(&dir);
+    let out = dir.join("information.html");
+    common::ulog_ok([
+        OsStr::new("report"),
+        log.as_os_str(),
+        OsStr::new("-o"),
+        out.as_os_str(),
+    ]);
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert_self_contained("information", &html);
+    assert!(!html.contains("b'\\xfd7zXZ"), "no Python bytes");
+
+    let events = info_cell(&html, "metadata_events");
+    assert!(
+        events.starts_with("<span class=\"bytes\">3,000 bytes, xz-compressed data</span>"),
+        "{events}"
+    );
+    let link = " <a class=\"download\" download=\"metadata_events.xz\" \
+                href=\"data:application/x-xz;base64,";
+    let at = events.find(link).expect("a download link") + link.len();
+    let digits = &events[at..at + events[at..].find('"').unwrap()];
+    assert_eq!(digits.len(), 4000, "3,000 bytes in base64");
+    assert!(!events.contains("<code"), "no hex of a long value");
+
+    let small = info_cell(&html, "small");
+    assert!(
+        small.starts_with(
+            "<span class=\"bytes\">4 bytes, binary data</span> <code class=\"hex\">01 02 03 fe</code>"
+        ),
+        "{small}"
+    );
+
+    // One line per part; folded under the first.
+    let perf = info_cell(&html, "perf_counter_preflight");
+    let lines: Vec<String> = (0..40)
+        .map(|i| format!("counter_{i}: {i} events"))
+        .collect();
+    let text = lines.join("\n");
+    assert_eq!(
+        perf,
+        format!(
+            "<details class=\"long\"><summary><code>counter_0: 0 events</code> (40 lines, {} \
+             characters)</summary><pre>{text}</pre></details>",
+            text.chars().count()
+        )
+    );
+    // Chunks joined as they were cut, escaped.
+    let console = info_cell(&html, "boot_console_output");
+    let expected: String = (0..30)
+        .map(|i| format!("line {i} &lt;&amp;&gt;\n"))
+        .collect();
+    assert!(
+        console.starts_with(
+            "<details class=\"long\"><summary><code>line 0 &lt;&amp;&gt;</code> (30 lines"
+        ),
+        "{console}"
+    );
+    assert!(
+        console.ends_with(&format!("<pre>{expected}</pre></details>")),
+        "{console}"
+    );
+    // Short: shown whole, the entries of a key as lines.
+    assert_eq!(
+        info_cell(&html, "excluded_optional_topics"),
+        "<pre>a\nb\nc</pre>"
+    );
+    assert_eq!(info_cell(&html, "sys_name"), "<pre>PX4</pre>");
+
+    // Nothing dumped: the page is the bare page (uPlot, script, one small plot) and the
+    // blob in base64, not screens of bytes.
+    let base = html.len() - digits.len();
+    assert!(base < 200_000, "{base} bytes besides the blob");
+}
+
+/// The same page in Chromium: the download link gives the value's bytes, long texts
+/// are closed folds whose visible text is their first line.
+#[test]
+#[cfg_attr(
+    not(chromium),
+    ignore = "needs /usr/bin/chromium with playwright-core in target/node (.ci/run installs \
+              both)"
+)]
+fn information_downloads_give_the_bytes_and_folds_show_their_first_line() {
+    let dir = common::scratch("report-information-browser");
+    let (log, blob) = information_log(&dir);
+    let out = dir.join("information.html");
+    common::ulog_ok([
+        OsStr::new("report"),
+        log.as_os_str(),
+        OsStr::new("-o"),
+        out.as_os_str(),
+    ]);
+    let r = browse(&out, "", None);
+    assert_eq!(r["errors"], serde_json::json!([]), "console errors");
+    assert_eq!(r["requests"], serde_json::json!([]), "requests");
+    let rows = r["information"].as_array().unwrap();
+    let row = |key: &str| {
+        rows.iter()
+            .find(|r| r["key"] == key)
+            .unwrap_or_else(|| panic!("row {key}: {rows:?}"))
+    };
+    let events = row("metadata_events");
+    assert_eq!(events["download"], "metadata_events.xz");
+    let got: Vec<u8> = events["bytes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b.as_u64().unwrap() as u8)
+        .collect();
+    assert!(got == blob, "the link gives the value's bytes");
+    assert_eq!(
+        events["visible"].as_str().unwrap().trim(),
+        "3,000 bytes, xz-compressed data download"
+    );
+    let small = row("small");
+    let got: Vec<u64> = small["bytes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b.as_u64().unwrap())
+        .collect();
+    assert_eq!(got, [1, 2, 3, 0xfe]);
+    let perf = row("perf_counter_preflight");
+    let fold = &perf["folds"][0];
+    assert_eq!(fold["open"], false);
+    assert!(fold["summary"]
+        .as_str()
+        .unwrap()
+        .starts_with("counter_0: 0 events (40 lines"));
+    assert_eq!(fold["text"].as_str().unwrap().lines().count(), 40);
+    let visible = perf["visible"].as_str().unwrap();
+    assert!(!visible.contains("counter_39"), "folded: {visible}");
+    let console = row("boot_console_output");
+    assert_eq!(
+        console["folds"][0]["text"],
+        (0..30)
+            .map(|i| format!("line {i} <&>\n"))
+            .collect::<String>()
+    );
 }

@@ -25,6 +25,7 @@ Name (multi id, message size in bytes)    number of data points, total bytes
 File version: 1
 Flag bits: compat [1, 0, 0, 0, 0, 0, 0, 0], incompat [0, 0, 0, 0, 0, 0, 0, 0], appended offsets [0, 0, 0]
 UTC start: unknown (no GPS time, no boot_time_utc_us information)
+Time span: 0:00:01 to 0:00:10 (9.950 s)
 Messages: 390 (2 logged, 1 tagged, 1 parameter changes, 4 sync)
 Truncated: no
 Findings: none

@@ -232,7 +232,7 @@ fn utc_without_a_time_in_the_log_is_an_error_of_every_command() {
     for args in runs {
         let run = common::ulog(&args);
         let err = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(6), "{args:?}: {err}");
+        assert_eq!(run.status.code(), Some(7), "{args:?}: {err}");
         assert!(err.contains("does not say its UTC time"), "{args:?}: {err}");
         assert!(
             run.stdout.is_empty(),
@@ -341,7 +341,7 @@ fn every_command_prints_the_same_utc_times() {
     ]);
     let svg = std::fs::read_to_string(svg).unwrap();
     assert!(
-        svg.contains("UTC time of day (log start: 2024-02-06 08:25:44Z)"),
+        svg.contains("UTC time of day (log start: 2024-02-06 08:25:45Z)"),
         "axis named"
     );
     // The rows span 0.5 s: tenths of a second.

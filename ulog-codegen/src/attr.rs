@@ -1,10 +1,12 @@
 //! The `#[ulog(…)]` attributes, parsed into typed forms that keep their spans.
 //!
-//! Container: `name = "…"` (the ULog message name), `crate = "…"` (the runtime crate's
-//! path), `view` (the binding can be borrowed from payloads). Field: `name = "…"` (the
+//! Container: `name = "…"` (the ULog message name), `alias = "…"` (repeatable: the
+//! topic's names in other firmware), `crate = "…"` (the runtime crate's path), `view`
+//! (the binding can be borrowed from payloads). Field: `name = "…"` (the
 //! ULog field name), `alias = "…"` (repeatable: names in older logs), `char` (a
 //! `[u8; N]` that is a `char[N]` string), `default` or `default = expr` (the value when
-//! a log lacks the field).
+//! a log lacks the field), `convert(TYPE = function, …)` (how to read the field from
+//! logs that hold it in ULog type `TYPE`).
 
 use proc_macro2::Span;
 use syn::spanned::Spanned;
@@ -39,6 +41,7 @@ impl<T> Once<T> {
 /// Attributes of the struct or enum.
 pub(crate) struct ContainerAttrs {
     pub name: Once<LitStr>,
+    pub aliases: Vec<LitStr>,
     pub krate: Once<syn::Path>,
     pub view: Once<Span>,
 }
@@ -50,6 +53,8 @@ pub(crate) struct FieldAttrs {
     pub char_: Once<Span>,
     /// `default` (`None` inside: the type's `Default`) or `default = expr`.
     pub default: Once<(Span, Option<syn::Expr>)>,
+    /// `convert(TYPE = function, …)`: the ULog type name and the function.
+    pub converts: Vec<(syn::Ident, syn::Path)>,
 }
 
 fn ulog_attrs(attrs: &[Attribute]) -> impl Iterator<Item = &Attribute> {
@@ -64,6 +69,7 @@ pub(crate) fn container(
 ) -> ContainerAttrs {
     let mut out = ContainerAttrs {
         name: Once::new("name"),
+        aliases: Vec::new(),
         krate: Once::new("crate"),
         view: Once::new("view"),
     };
@@ -72,6 +78,8 @@ pub(crate) fn container(
             if meta.path.is_ident("name") && allow_name {
                 let lit: LitStr = meta.value()?.parse()?;
                 out.name.set(lit, meta.path.span(), errors);
+            } else if meta.path.is_ident("alias") && allow_name {
+                out.aliases.push(meta.value()?.parse()?);
             } else if meta.path.is_ident("crate") {
                 let lit: LitStr = meta.value()?.parse()?;
                 match lit.parse_with(syn::Path::parse_mod_style) {
@@ -82,7 +90,7 @@ pub(crate) fn container(
                 out.view.set(meta.path.span(), meta.path.span(), errors);
             } else {
                 let expected = if allow_name {
-                    "`name`, `crate` or `view`"
+                    "`name`, `alias`, `crate` or `view`"
                 } else {
                     "`crate`"
                 };
@@ -104,10 +112,21 @@ pub(crate) fn field(attrs: &[Attribute], errors: &mut Errors) -> FieldAttrs {
         aliases: Vec::new(),
         char_: Once::new("char"),
         default: Once::new("default"),
+        converts: Vec::new(),
     };
     for attr in ulog_attrs(attrs) {
         let result = attr.parse_nested_meta(|meta| {
-            if meta.path.is_ident("name") {
+            if meta.path.is_ident("convert") {
+                meta.parse_nested_meta(|inner| {
+                    let Some(ty) = inner.path.get_ident().cloned() else {
+                        return Err(inner.error(
+                            "expected a ULog type name, like `convert(uint32_t = my_function)`",
+                        ));
+                    };
+                    out.converts.push((ty, inner.value()?.parse()?));
+                    Ok(())
+                })?;
+            } else if meta.path.is_ident("name") {
                 let lit: LitStr = meta.value()?.parse()?;
                 out.name.set(lit, meta.path.span(), errors);
             } else if meta.path.is_ident("alias") {
@@ -123,9 +142,9 @@ pub(crate) fn field(attrs: &[Attribute], errors: &mut Errors) -> FieldAttrs {
                 out.default
                     .set((meta.path.span(), value), meta.path.span(), errors);
             } else {
-                return Err(
-                    meta.error("unknown attribute, expected `name`, `alias`, `char` or `default`")
-                );
+                return Err(meta.error(
+                    "unknown attribute, expected `name`, `alias`, `char`, `default` or `convert`",
+                ));
             }
             Ok(())
         });

@@ -58,6 +58,16 @@ pub(crate) fn field_name(name: &str, span: Span, what: &str, errors: &mut Errors
 /// Every check of a lowered derive input.
 pub(crate) fn check(message: &Message, name_span: Span, errors: &mut Errors) {
     message_name(&message.name, name_span, errors);
+    for (i, (alias, span)) in message.aliases.iter().enumerate() {
+        message_name(alias, *span, errors);
+        let earlier = message.aliases[..i].iter().map(|(a, _)| a);
+        if *alias == message.name || earlier.into_iter().any(|a| a == alias) {
+            errors.at(
+                *span,
+                format_args!("the topic name `{alias}` is given twice"),
+            );
+        }
+    }
     let mut seen: HashMap<&str, ()> = HashMap::new();
     for f in &message.fields {
         field_name(&f.name, f.span, "field name", errors);

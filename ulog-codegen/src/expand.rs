@@ -1,14 +1,14 @@
-//! Code generation for a binding: its `WireField` and `ULogMessage` implementations,
-//! inside `const _: () = { … };`, with absolute paths.
+//! Code generation for a derived binding (`#[derive(ULogMessage)]`): its `WireField`
+//! and `ULogMessage` implementations, inside `const _: () = { … };`, with absolute
+//! paths. (Bindings of known formats: `known.rs`.)
 //!
 //! A binding's wire image is a byte array of its size, read and written field by field
-//! at fixed offsets. Where the layout is known when the code is generated (bindings of
-//! format strings and logs), the offsets are literals; for a derived struct they are
-//! constants the compiler computes from the field types. Either way no type is
-//! generated beside the binding, and the table of fields (`FieldDef`s) is built once.
+//! at offsets the compiler computes from the field types: no type is generated beside
+//! the binding, and the table of fields (`FieldDef`s) is built once.
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
+use ulog_format::BasicType;
 
 use crate::ir::{basic_variant, Absent, Message, MessageField, Shape};
 
@@ -141,6 +141,51 @@ fn read_expr(
     }
 }
 
+/// Field `f` read from a log's payload through the conversions it declares
+/// (`#[ulog(convert(TYPE = function))]`): the function of the log's value where the
+/// plan found the field in one of those types, else `otherwise`.
+fn declared_conversions(
+    m: &Message,
+    f: &MessageField,
+    k: &TokenStream,
+    present: &TokenStream,
+    otherwise: TokenStream,
+) -> TokenStream {
+    let private = m.paths.private();
+    let (reader, inferred) = match &f.shape {
+        Shape::Array { .. } => (quote!(read_declared_array), quote!(_, _)),
+        _ => (quote!(read_declared), quote!(_)),
+    };
+    let arms = f.converts.iter().map(|(b, function)| {
+        let v = basic_variant(*b);
+        let native = native_type(*b);
+        quote!(::core::option::Option::Some(c) if c.ty == #private::BasicType::#v => #private::#reader::<#native, #inferred>(
+            payload, sources, #k, #private::BasicType::#v, #function, #present,
+        ),)
+    });
+    quote!(match #private::Converted::unpack(sources.get(#k).copied().unwrap_or(u32::MAX)) {
+        #(#arms)*
+        _ => #otherwise,
+    })
+}
+
+/// The Rust type of one value of ULog type `b`.
+fn native_type(b: BasicType) -> TokenStream {
+    match b {
+        BasicType::Int8 => quote!(i8),
+        BasicType::UInt8 | BasicType::Char => quote!(u8),
+        BasicType::Int16 => quote!(i16),
+        BasicType::UInt16 => quote!(u16),
+        BasicType::Int32 => quote!(i32),
+        BasicType::UInt32 => quote!(u32),
+        BasicType::Int64 => quote!(i64),
+        BasicType::UInt64 => quote!(u64),
+        BasicType::Float => quote!(f32),
+        BasicType::Double => quote!(f64),
+        BasicType::Bool => quote!(bool),
+    }
+}
+
 /// Writes `value` (an expression of a reference to the field's value) at `offset` of
 /// `wire`.
 fn write_stmt(
@@ -195,7 +240,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
     let name = &m.name;
     let rust_name = ident.to_string();
     let named_after_struct = m.named_after_struct;
-    let all = quote!(#typed::Present::ALL);
+    let topic_aliases: Vec<&String> = m.aliases.iter().map(|(a, _)| a).collect();
 
     let mut consts = Vec::new();
     let mut inits = Vec::new();
@@ -212,7 +257,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
     };
     let mut asserts = Vec::new();
     let mut visits = Vec::new();
-    // Offsets and presence slots: literals where the layout is known, else constants.
+    // Offsets and presence slots: constants the compiler computes.
     let mut offset = quote!(0usize);
     let mut slot = quote!(0usize);
     let mut has_slots = false;
@@ -225,41 +270,19 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
         let fi = &f.ident;
         let fname = &f.name;
         let aliases = &f.aliases;
-        let (offset_k, next_offset) = match &m.known {
-            Some(known) => {
-                let o = known.offsets[k];
-                (quote!(#o), quote!())
-            }
-            None => {
-                let o = format_ident!("__O{k}");
-                let size = &code.size;
-                consts.push(quote!(const #o: usize = #offset;));
-                (quote!(#o), quote!(#o + #size))
-            }
-        };
-        if m.known.is_none() {
-            offset = next_offset;
-        }
+        let offset_id = format_ident!("__O{k}");
+        let offset_k = quote!(#offset_id);
+        let size = &code.size;
+        consts.push(quote!(const #offset_k: usize = #offset;));
+        offset = quote!(#offset_k + #size);
         let own_slot = !matches!(f.absent, Absent::Required);
-        let nested = if m.known.is_some() {
-            // Bindings of formats and logs have no optional fields anywhere.
-            quote!(0usize)
-        } else {
-            code.nested_slots.clone()
-        };
-        let slot_k = if m.known.is_some() {
-            quote!(0usize)
-        } else {
-            let s = format_ident!("__S{k}");
-            consts.push(quote!(const #s: usize = #slot;));
-            let own = usize::from(own_slot);
-            slot = quote!(#s + #own + #nested);
-            has_slots = true;
-            quote!(#s)
-        };
-        let present = if m.known.is_some() {
-            all.clone()
-        } else if own_slot {
+        let nested = code.nested_slots.clone();
+        let slot_k = format_ident!("__S{k}");
+        consts.push(quote!(const #slot_k: usize = #slot;));
+        let own = usize::from(own_slot);
+        slot = quote!(#slot_k + #own + #nested);
+        has_slots = true;
+        let present = if own_slot {
             quote!(present.sub(#slot_k + 1, #nested))
         } else {
             quote!(present.sub(#slot_k, #nested))
@@ -285,12 +308,11 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
             }
         };
         inits.push(init(read_expr(m, f, ReadFrom::Image(&offset_k), &present)));
-        direct_inits.push(init(read_expr(
-            m,
-            f,
-            ReadFrom::Payload(&quote!(#source_k)),
-            &present,
-        )));
+        let mut direct_read = read_expr(m, f, ReadFrom::Payload(&quote!(#source_k)), &present);
+        if !f.converts.is_empty() {
+            direct_read = declared_conversions(m, f, &quote!(#source_k), &present, direct_read);
+        }
+        direct_inits.push(init(direct_read));
         writes.push(match &f.absent {
             Absent::None => {
                 let w = write_stmt(m, f, &offset_k, &quote!(value));
@@ -305,73 +327,47 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
             }
             _ => visit_stmt(m, f, &quote!(&self.#fi)),
         });
-        // A basic type known here is written out: the compiler has no trait to look
-        // through.
-        let (kind, count) = match f.basic {
-            Some((b, len)) => {
-                let v = basic_variant(b);
-                let count = match len {
-                    Some(n) => quote!(::core::option::Option::Some(#n)),
-                    None => quote!(::core::option::Option::None),
-                };
-                (
-                    quote!(#typed::FieldKind::Basic(#private::BasicType::#v)),
-                    count,
-                )
-            }
-            None => (code.kind.clone(), code.count.clone()),
-        };
-        let def = quote!(#typed::FieldDef::new(#fname, &[#(#aliases),*], #kind, #count));
+        let (kind, count) = (&code.kind, &code.count);
+        let mut def = quote!(#typed::FieldDef::new(#fname, &[#(#aliases),*], #kind, #count));
+        if !f.converts.is_empty() {
+            let types = f.converts.iter().map(|(b, _)| {
+                let v = basic_variant(*b);
+                quote!(#private::BasicType::#v)
+            });
+            def = quote!(#def.converting(&[#(#types),*]));
+        }
         defs.push(match &f.absent {
             Absent::Required => def,
             Absent::None => quote!(#def.when_absent(#typed::Absent::None)),
             Absent::Default(_) => quote!(#def.when_absent(#typed::Absent::Default)),
         });
-        if m.known.is_none() || m.view.is_some() {
-            let wire_ok = match f.absent {
-                Absent::None => quote!(false),
-                _ => code.is_wire.clone(),
-            };
-            is_wire.push(quote!(#wire_ok && ::core::mem::offset_of!(Self, #fi) == #offset_k));
-        }
-        if let (None, false, Some(w)) = (&m.known, has_options, &code.writability) {
+        let wire_ok = match f.absent {
+            Absent::None => quote!(false),
+            _ => code.is_wire.clone(),
+        };
+        is_wire.push(quote!(#wire_ok && ::core::mem::offset_of!(Self, #fi) == #offset_k));
+        if let (false, Some(w)) = (has_options, &code.writability) {
             writability = quote!(<#writability as #typed::Writability>::And<#w>);
         }
-        if m.known.is_none() {
-            asserts.extend(code.assert);
-        }
+        asserts.extend(code.assert);
     }
     let asserts = (!asserts.is_empty()).then(|| quote!(const _: () = { #(#asserts)* };));
-    let size = match &m.known {
-        Some(known) => {
-            let s = known.size;
-            quote!(#s)
-        }
-        None => {
-            consts.push(quote!(const __SIZE: usize = #offset;));
-            quote!(__SIZE)
-        }
-    };
+    consts.push(quote!(const __SIZE: usize = #offset;));
+    let size = quote!(__SIZE);
     let optional = if has_slots {
         quote!(#slot)
     } else {
         quote!(0usize)
     };
-    let is_wire = match (&m.known, m.view) {
-        // Bindings of formats and logs hold Rust's own types (`u32`, `f32`): never
-        // their wire image, unless generated as views.
-        (Some(_), None) => quote!(false),
-        _ => quote!(
-            ::core::mem::size_of::<Self>() == #size
-                && ::core::mem::align_of::<Self>() == 1
-                #(&& #is_wire)*
-        ),
-    };
+    let is_wire = quote!(
+        ::core::mem::size_of::<Self>() == #size
+            && ::core::mem::align_of::<Self>() == 1
+            #(&& #is_wire)*
+    );
 
     // A derived struct may hold optional fields, here or in a nested binding: its
-    // visitor goes field by field. Bindings of formats and logs use the default,
-    // which reads the wire image as the reader reads a payload.
-    let visit_override = m.known.is_none().then(|| {
+    // visitor goes field by field.
+    let visit_override = {
         let body = if visits.is_empty() {
             quote!(let _ = (path, f);)
         } else {
@@ -386,7 +382,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
                 #body
             }
         }
-    });
+    };
     let view = m.view.map(|span| {
         let message = format!(
             "`{rust_name}` is not its wire image, so it cannot be a view: its fields must be `u8`, `i8`, `CharArray<N>`, `ulog_core::typed::le` types, arrays of these or nested view bindings, laid out in declaration order (add `#[repr(C)]`)"
@@ -457,6 +453,7 @@ pub(crate) fn expand(m: &Message) -> TokenStream {
             #[automatically_derived]
             impl #message_trait for #ident {
                 const NAME: &'static str = #name;
+                const ALIASES: &'static [&'static str] = &[#(#topic_aliases),*];
                 fn schema() -> &'static #typed::Schema {
                     static FIELDS: [#typed::FieldDef; #n] = [#(#defs),*];
                     static SCHEMA: #private::OnceLock<#typed::Schema> = #private::OnceLock::new();

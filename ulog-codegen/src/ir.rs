@@ -14,25 +14,14 @@ pub(crate) struct Message {
     pub name: String,
     /// Whether the name was derived from the struct's name (no `name` attribute).
     pub named_after_struct: bool,
+    /// `#[ulog(alias = "…")]`: the topic's other names, with their spans.
+    pub aliases: Vec<(String, Span)>,
     /// The runtime crate's path.
     pub paths: Paths,
     /// The fields, in order.
     pub fields: Vec<MessageField>,
-    /// Where the layout is known when the code is generated (bindings of format
-    /// strings and logs): the offsets are then literals, and no field has nested
-    /// optional fields. `None` for derived structs, whose field types are known only
-    /// to the compiler.
-    pub known: Option<KnownLayout>,
     /// `#[ulog(view)]`: the binding can be borrowed from payloads.
     pub view: Option<Span>,
-}
-
-/// A layout known when the code is generated.
-pub(crate) struct KnownLayout {
-    /// Each field's offset.
-    pub offsets: Vec<usize>,
-    /// The size.
-    pub size: usize,
 }
 
 /// One field of a binding.
@@ -52,6 +41,9 @@ pub(crate) struct MessageField {
     /// Its ULog basic type and array length, when it is known to be one when the code
     /// is generated (bindings of formats and logs).
     pub basic: Option<(BasicType, Option<usize>)>,
+    /// `#[ulog(convert(TYPE = function))]`: other ULog types it is read from, each
+    /// through its function.
+    pub converts: Vec<(BasicType, syn::Path)>,
 }
 
 /// What a field takes when a log's format lacks it.
@@ -85,20 +77,34 @@ pub(crate) enum Shape {
 }
 
 /// The paths generated code uses, all below the runtime crate.
+#[derive(Clone)]
 pub(crate) struct Paths {
     krate: syn::Path,
+    /// Whether the runtime's private module is named by the alias that
+    /// [`Paths::private_alias`] declares (a module of bindings declares it once).
+    aliased: bool,
 }
 
 impl Paths {
     pub(crate) fn new(krate: Option<syn::Path>) -> Paths {
         Paths {
             krate: krate.unwrap_or_else(|| syn::parse_quote!(::ulog_core)),
+            aliased: false,
         }
     }
 
-    /// The runtime crate's path.
-    pub(crate) fn krate(&self) -> &syn::Path {
-        &self.krate
+    /// The same paths, the private module named by its alias (`__p`).
+    pub(crate) fn aliased(&self) -> Paths {
+        Paths {
+            krate: self.krate.clone(),
+            aliased: true,
+        }
+    }
+
+    /// The `use` that declares the private module's alias.
+    pub(crate) fn private_alias(&self) -> TokenStream {
+        let k = &self.krate;
+        quote!(use #k::typed::__private as __p;)
     }
 
     /// `ulog_core::ULogMessage`
@@ -113,6 +119,12 @@ impl Paths {
         quote!(#k::ULogTopics)
     }
 
+    /// `ulog_core::align`
+    pub(crate) fn align(&self) -> TokenStream {
+        let k = &self.krate;
+        quote!(#k::align)
+    }
+
     /// `ulog_core::typed`
     pub(crate) fn typed(&self) -> TokenStream {
         let k = &self.krate;
@@ -121,6 +133,9 @@ impl Paths {
 
     /// `ulog_core::typed::__private`
     pub(crate) fn private(&self) -> TokenStream {
+        if self.aliased {
+            return quote!(__p);
+        }
         let k = &self.krate;
         quote!(#k::typed::__private)
     }

@@ -22,6 +22,12 @@ pub(crate) fn lower(input: Input, errors: &mut Errors) -> (Message, Option<Span>
         .unwrap_or_else(|| names::snake_case(&input.ident.to_string()));
     let paths = Paths::new(input.attrs.krate.get());
     let view = input.attrs.view.get();
+    let aliases = input
+        .attrs
+        .aliases
+        .iter()
+        .map(|a| (a.value(), a.span()))
+        .collect();
     let fields = input
         .fields
         .into_iter()
@@ -32,9 +38,9 @@ pub(crate) fn lower(input: Input, errors: &mut Errors) -> (Message, Option<Span>
             ident: input.ident,
             name,
             named_after_struct,
+            aliases,
             paths,
             fields,
-            known: None,
             view,
         },
         name_span,
@@ -75,6 +81,35 @@ fn lower_field(f: InputField, errors: &mut Errors) -> Option<MessageField> {
         (false, Some((_, expr))) => Absent::Default(expr.map(Box::new)),
         (false, None) => Absent::Required,
     };
+    let mut converts = Vec::new();
+    for (ty, function) in f.attrs.converts {
+        match ulog_format::BasicType::from_name(&ty.to_string()) {
+            Some(BasicType::Char) | None => {
+                let names: Vec<&str> = BasicType::ALL
+                    .iter()
+                    .filter(|t| **t != BasicType::Char)
+                    .map(|t| t.name())
+                    .collect();
+                errors.at(
+                    ty.span(),
+                    format_args!(
+                        "`{ty}` is not a ULog type a field can be converted from: one of {}",
+                        names.join(", ")
+                    ),
+                );
+            }
+            Some(_) if padding || char_span.is_some() => {
+                errors.at(ty.span(), "a padding or `char` field cannot be converted");
+            }
+            Some(b) if converts.iter().any(|(c, _)| *c == b) => {
+                errors.at(
+                    ty.span(),
+                    format_args!("a conversion from `{ty}` is declared twice"),
+                );
+            }
+            Some(b) => converts.push((b, function)),
+        }
+    }
     let shape = if padding {
         if option_inner(&f.ty).is_some() {
             errors.at(f.ty.span(), "a padding field cannot be an `Option`");
@@ -94,6 +129,7 @@ fn lower_field(f: InputField, errors: &mut Errors) -> Option<MessageField> {
         shape,
         absent,
         basic: None,
+        converts,
     })
 }
 

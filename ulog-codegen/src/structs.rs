@@ -15,8 +15,8 @@ use ulog_format::{Format, FormatError, LayoutErrorKind, Limits, Resolver, TypeNa
 
 use crate::errors::Errors;
 use crate::expand;
-use crate::ir::{rust_basic, wire_basic, Absent, KnownLayout, Message, MessageField, Paths, Shape};
-use crate::{check, input, lower, names};
+use crate::ir::{rust_basic, wire_basic, Absent, Message, MessageField, Paths, Shape};
+use crate::{check, input, known, lower, names};
 
 /// `#[derive(ULogMessage)]`: parse → lower → check → expand. With errors, the errors
 /// and stand-in implementations.
@@ -233,10 +233,9 @@ pub(crate) fn emit_structs(
                 skipped.push(format!("format `{}`: {e}", f.name));
             } else {
                 let (target, message) = match &e.kind {
-                    LayoutErrorKind::UnknownType { name } => (
-                        Some(name.clone()),
-                        format!("unknown nested type `{name}`: give its format too"),
-                    ),
+                    LayoutErrorKind::UnknownType { name } => {
+                        (Some(name.clone()), unknown_nested(name, &formats))
+                    }
                     LayoutErrorKind::Cycle { chain } => (
                         chain.get(1).cloned(),
                         format!("circular nested types: {}", chain.join(" -> ")),
@@ -344,41 +343,68 @@ pub(crate) fn emit_structs(
                     TypeName::Basic(b) => Some((*b, fl.array_len)),
                     TypeName::Nested(_) => None,
                 },
+                converts: Vec::new(),
             });
         }
         let Some(ident) = idents.get(&f.name) else {
             continue;
         };
-        // The layout is known here: offsets are literals in the generated code.
-        let known = match &laid_out {
-            Ok(layout) if ok => Some(KnownLayout {
-                offsets: layout.fields().iter().map(|lf| lf.offset).collect(),
-                size: if trim {
-                    layout.min_size()
-                } else {
-                    layout.size()
-                },
-            }),
-            _ => None,
-        };
         let message = Message {
             ident: ident.clone(),
             name: f.name.clone(),
             named_after_struct: false,
-            paths: Paths::new(Some(paths.krate().clone())),
+            aliases: Vec::new(),
+            paths: paths.clone(),
             fields,
-            known,
             view: views.then(Span::call_site),
         };
-        out.extend(struct_definition(&message, &s.text, &f.to_string()));
-        out.extend(if ok {
-            bound.push(ident.clone());
-            expand::expand(&message)
-        } else {
-            expand::stub(&message)
-        });
+        let canonical = f.to_string();
+        match &laid_out {
+            Ok(layout) if ok => {
+                // The binding's own format: a view's without the trailing padding.
+                let own = Format {
+                    name: f.name.clone(),
+                    fields: f.fields[..kept].to_vec(),
+                };
+                let format = own.to_string();
+                let given = (s.text != canonical && !s.text.is_empty()).then_some(s.text.as_str());
+                let known = known::Known {
+                    format: &format,
+                    canonical: &canonical,
+                    given,
+                    size: if trim {
+                        layout.min_size()
+                    } else {
+                        layout.size()
+                    },
+                    sources: sources_of(&f.name, &formats),
+                };
+                bound.push(ident.clone());
+                out.extend(known::expand(&message, &known));
+            }
+            _ => {
+                out.extend(struct_definition(&message, &s.text, &canonical));
+                out.extend(expand::stub(&message));
+            }
+        }
     }
     out
+}
+
+/// How many payload offsets the binding of format `name` takes (`WireField::SOURCES`):
+/// one per basic field, padding none, a nested format's per element.
+fn sources_of(name: &str, formats: &[Format]) -> usize {
+    let Some(f) = formats.iter().find(|f| f.name == name) else {
+        return 0;
+    };
+    f.fields
+        .iter()
+        .filter(|fl| !fl.is_padding())
+        .map(|fl| match &fl.ty {
+            TypeName::Basic(_) => 1,
+            TypeName::Nested(n) => fl.array_len.unwrap_or(1) * sources_of(n, formats),
+        })
+        .sum()
 }
 
 fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
@@ -428,5 +454,18 @@ fn struct_definition(m: &Message, given: &str, canonical: &str) -> TokenStream {
                 <Self as #message_trait>::zeroed()
             }
         }
+    }
+}
+
+/// The error text of a field whose type is neither a basic type nor a format given:
+/// the closest such name when it looks like a typo of one (`flaot`), else the fix.
+fn unknown_nested(name: &str, formats: &[Format]) -> String {
+    let basic = ulog_format::BasicType::ALL.iter().map(|b| b.name());
+    let given = formats.iter().map(|f| f.name.as_str());
+    match ulog_format::suggest::closest(name, basic.chain(given)) {
+        Some(close) => format!(
+            "unknown nested type `{name}`: did you mean `{close}`? (or give the format of `{name}` too)"
+        ),
+        None => format!("unknown nested type `{name}`: give its format too"),
     }
 }

@@ -58,6 +58,9 @@ pub(crate) fn derive(input: &DeriveInput) -> TokenStream {
     let names = variants
         .iter()
         .map(|(_, ty, _)| quote!(<#ty as #message_trait>::NAME));
+    let aliases = variants
+        .iter()
+        .map(|(_, ty, _)| quote!(<#ty as #message_trait>::ALIASES));
     let plans = variants.iter().zip(&idx).map(|((_, ty, _), i)| {
         quote!(#i => ::core::option::Option::Some(#typed::TopicPlan::new::<#ty>(#i, layout)))
     });
@@ -69,6 +72,7 @@ pub(crate) fn derive(input: &DeriveInput) -> TokenStream {
             #[automatically_derived]
             impl #topics_trait for #ident {
                 const NAMES: &'static [&'static str] = &[#(#names),*];
+                const ALIASES: &'static [&'static [&'static str]] = &[#(#aliases),*];
                 fn plan(
                     variant: usize,
                     layout: &#private::Layout,

@@ -48,14 +48,23 @@ fn same_as_macro(views: bool) {
         .collect();
     assert!(from_macro.len() > 4);
 
-    let options = ulog_codegen::Options { krate: None, views };
+    let options = ulog_codegen::Options {
+        views,
+        ..Default::default()
+    };
     let generated =
         ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "sample.ulg", &options)
             .unwrap();
     let parsed: syn::File = syn::parse_str(&generated.source).expect("source parses");
     assert_eq!(items_text(parsed.items), items_text(from_macro));
     assert_eq!(generated.source.contains("WireImage"), views);
-    assert!(generated.skipped.is_empty());
+    assert!(generated.unbound.is_empty());
+    let sample = ulog_core::testing::sample_log();
+    let log = ulog_core::ULog::parse(&sample).unwrap();
+    let mut bound = generated.bound.clone();
+    bound.sort();
+    let read: Vec<&str> = log.formats().iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(bound, read);
     assert!(generated.problems.is_empty());
 }
 
@@ -66,7 +75,7 @@ fn a_file_that_is_not_a_log_is_an_error() {
     assert!(!e.is_empty());
     let bad_path = ulog_codegen::Options {
         krate: Some("not a path"),
-        views: false,
+        ..Default::default()
     };
     let e = ulog_codegen::bindings_for_log(&ulog_core::testing::sample_log(), "x", &bad_path)
         .unwrap_err();

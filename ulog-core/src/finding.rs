@@ -85,6 +85,11 @@ pub enum Corruption {
     ZeroFill,
     /// A message that would end past the end of the file, with valid messages after it.
     Overrun,
+    /// A data message whose last bytes lie in zero fill (at least a 512-byte sector of
+    /// zeros, as an SD card leaves a block it never wrote after a power loss), with the
+    /// zeros after it: its header was written, the rest of it was not, so it is not a
+    /// row (see the README's section on damaged input for the rule).
+    CutByZeroFill,
 }
 
 /// Something the reader stepped over: what, where, and how many bytes it covers.
@@ -232,6 +237,7 @@ impl Finding {
                     Corruption::BadHeader => "invalid message header",
                     Corruption::ZeroFill => "zero-filled bytes",
                     Corruption::Overrun => "message overruns the file",
+                    Corruption::CutByZeroFill => "data message cut off by zero-filled bytes",
                 };
                 write!(
                     f,

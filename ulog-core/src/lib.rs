@@ -27,9 +27,13 @@
 //! | copy byte for byte | [`copy_log`] |
 //! | cut a time window, keep or drop topics, map payloads | [`Edit`] |
 //! | the parameters that differ between two flights, or from the defaults | [`ULog::diff_params`], [`ULog::diff_param_defaults`] |
+//! | several topics on one time base (previous, nearest, linear; by name or typed) | [`ULog::align`], [`ULog::select_columns`] |
+//! | play items back on the log's clock (paced, paused, stepped, sought, looped) | [`replay::Player`] |
 //! | the UTC time of the timestamps | [`ULog::utc`] |
+//! | the time span of a log (what a time axis shows), and the rows far outside it | [`ULog::span`] |
 //! | the unit of a field | [`units::unit_of`] |
 //! | the GPS track by flight mode (for KML, GPX), GPS receiver bytes | [`track::Track::from_log`], [`track::gps_dump`] |
+//! | spectra, spectrograms, step responses of sampled signals | `analysis::psd`, `analysis::step_response` (feature `analysis`) |
 //! | an MCAP file (ROS 2 CDR or JSON) for Foxglove and ROS 2 tools | `mcap::write_mcap` (feature `mcap`) |
 //! | Parquet files for query engines | `export::write_parquet` (feature `parquet`) |
 //!
@@ -50,12 +54,16 @@
 //! - There is one error type per direction: [`ReadError`] (a log that cannot be read),
 //!   [`LookupError`] (a topic or field that is not there), [`TypedError`] (a binding
 //!   that does not fit, a payload that does not decode), [`WriteError`]. Each has a
-//!   position only where there is a place in the file.
+//!   position only where there is a place in the file. `ReadError`, `TypedError` and
+//!   `WriteError` say what went wrong through `kind()`, an enum kept in the module of
+//!   their machinery: [`read::ReadErrorKind`], [`typed::TypedErrorKind`],
+//!   [`write::WriteErrorKind`].
 //! - The root holds what a program names; the modules hold the rest, each item at one
 //!   path: [`read`] (what a log holds: metadata, messages, findings), [`stream`],
 //!   [`columns`], [`typed`] (the machinery of bindings), [`write`](mod@write), `export` (feature
 //!   `parquet`), `mcap` (feature `mcap`), [`format`](mod@format) (the grammar),
-//!   [`parallel`], [`testing`], [`units`], [`track`].
+//!   `analysis` (feature `analysis`), [`parallel`], [`replay`], [`testing`], [`units`], [`track`], [`naming`] (a topic's
+//!   name in file and folder names).
 //!
 //! # Damage
 //!
@@ -67,6 +75,9 @@
 #![cfg_attr(docsrs, feature(doc_auto_cfg))]
 
 mod access;
+pub mod align;
+#[cfg(feature = "analysis")]
+pub mod analysis;
 #[allow(unsafe_code)]
 mod audited;
 mod bytes;
@@ -79,11 +90,15 @@ pub mod events;
 pub mod export;
 mod finding;
 mod framing;
+#[cfg(any(feature = "parquet", feature = "mcap"))]
+mod json_text;
 mod log;
 #[cfg(feature = "mcap")]
 pub mod mcap;
+pub mod naming;
 pub mod parallel;
 mod pass;
+pub mod replay;
 mod suggest;
 pub mod testing;
 pub mod track;
@@ -106,9 +121,10 @@ pub use finding::Finding;
 pub use log::file::LogFile;
 pub use log::message::Message;
 pub use log::ulog::ULog;
-pub use pass::driver::{DataRecord, ScanSummary};
+pub use pass::keep::ScanSummary;
 pub use pass::scan::{scan, ScanOptions};
 pub use pass::source::Source;
+pub use pass::visit::DataRecord;
 pub use typed::error::TypedError;
 pub use typed::message::ULogMessage;
 pub use typed::rows::TypedRows;
@@ -150,8 +166,11 @@ pub mod read {
         diff_from_defaults, diff_params, same_param_value, vehicle_type, DefaultKind,
         ParamDefaults, ParamDiff,
     };
+    pub use crate::log::span::{
+        OutlierSide, SpanOutlier, TimeSpan, EARLY_OUTLIER_US, JUMP_US, STALE_RUN_ROWS,
+    };
     pub use crate::log::utc::{UtcClock, UtcSource, UtcTime};
-    pub use crate::pass::keep::LogMetadata;
+    pub use crate::pass::keep::{LogMetadata, TopicRows};
     pub use crate::pass::scan::{ScanFlow, ScanOrder};
     pub use crate::value::{LogText, ValueArray};
 }

@@ -1,5 +1,6 @@
 //! The work queue that spreads jobs over threads: the columnar load and the Parquet
-//! export use it for topics, the `ulog` command line for topics and for logs.
+//! export use it for topics, the `ulog` command line for topics and for logs; and
+//! [`Shares`], the topics of one log shared between passes on several threads.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -96,5 +97,73 @@ mod tests {
         // One thread: the largest job runs first and fails; nothing else starts.
         let results = largest_first(&[1, 9, 5], 1, |i| if i == 1 { Err(i) } else { Ok(i) });
         assert_eq!(results, [None, Some(Err(1)), None]);
+    }
+}
+
+/// Which of several passes over one log takes which subscription (topic instance):
+/// each pass frames the whole log and handles its share of the topics. Every pass
+/// keeps its own copy and, meeting the same subscriptions in the same order, takes
+/// the same decisions, so that each subscription has exactly one owner. The columnar
+/// load and the Python package's reader use it.
+///
+/// ```
+/// use ulog_core::parallel::Shares;
+/// // The work of subscriptions 0..3 in a sample of the log.
+/// let mut a = Shares::new(&[10, 70, 30], 2);
+/// let mut b = a.clone();
+/// assert_eq!(a.owner(1), 0); // the largest first, to the first share
+/// assert_eq!((a.owner(0), a.owner(2)), (1, 1));
+/// // A subscription not in the sample gets the typical weight, the same in every copy.
+/// assert_eq!(a.owner(7), b.owner(7));
+/// ```
+#[derive(Debug, Clone)]
+pub struct Shares {
+    owner: Vec<Option<usize>>,
+    load: Vec<u64>,
+    /// The weight given to a subscription first met after the sample.
+    typical: u64,
+}
+
+impl Shares {
+    /// Shares balanced by the work of each subscription in the sample, largest
+    /// first, each to the least loaded share.
+    /// (`threads`: at least 1.)
+    pub fn new(work: &[u64], threads: usize) -> Shares {
+        let threads = threads.max(1);
+        let mut shares = Shares {
+            owner: vec![None; work.len()],
+            load: vec![0; threads],
+            typical: 0,
+        };
+        let mut order: Vec<usize> = (0..work.len()).collect();
+        order.sort_by_key(|&i| (core::cmp::Reverse(work[i]), i));
+        for i in order {
+            shares.assign(i, work[i]);
+        }
+        let total: u64 = work.iter().sum();
+        shares.typical = total / work.len().max(1) as u64;
+        shares
+    }
+
+    fn assign(&mut self, sub: usize, weight: u64) -> usize {
+        let least = (0..self.load.len())
+            .min_by_key(|&k| (self.load[k], k))
+            .expect("at least one share");
+        self.load[least] += weight;
+        if sub >= self.owner.len() {
+            self.owner.resize(sub + 1, None);
+        }
+        self.owner[sub] = Some(least);
+        least
+    }
+
+    /// The share that handles subscription `sub` (by its index); one first met now
+    /// goes to the least loaded share.
+    #[inline]
+    pub fn owner(&mut self, sub: usize) -> usize {
+        match self.owner.get(sub) {
+            Some(&Some(k)) => k,
+            _ => self.assign(sub, self.typical),
+        }
     }
 }

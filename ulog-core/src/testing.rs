@@ -319,7 +319,8 @@ where
     R: std::io::Read + Send,
     F: FnMut(crate::DataRecord<'_>),
 {
-    use crate::pass::driver::{Driver, Hand};
+    use crate::pass::driver::Driver;
+    use crate::pass::visit::Hand;
     let mut driver = Driver::new();
     crate::pass::source::read_ahead_chunks(
         src,

@@ -53,6 +53,9 @@ use crate::value::Value;
 /// this reader for logs that have neither.
 pub const GNSS_TOPICS: [&str; 3] = ["vehicle_gnss", "vehicle_gps_position", "sensor_gps"];
 
+/// The topic of the raw bytes to and from the GPS receivers ([`gps_dump`]).
+pub const GPS_DUMP_TOPIC: &str = "gps_dump";
+
 /// The names a position field has across PX4 versions, tried in order: `lat`, `lon`
 /// (`int32`, 1e-7 degrees) and `alt` (`int32`, millimetres) in older logs, or the
 /// double-precision `latitude_deg`, `longitude_deg` and `altitude_msl_m`, or the
@@ -112,6 +115,26 @@ impl Default for TrackOptions {
             camera_trigger: None,
             min_interval_s: DEFAULT_MIN_INTERVAL_S,
         }
+    }
+}
+
+impl TrackOptions {
+    /// The topics [`Track::from_log`] reads with these options: a log kept without
+    /// its data but theirs ([`ScanOptions::keep_data`](crate::ScanOptions::keep_data))
+    /// gives the same track as the whole log.
+    ///
+    /// ```
+    /// let options = ulog_core::track::TrackOptions::default();
+    /// assert!(options.topics().contains(&"vehicle_status"));
+    /// ```
+    pub fn topics(&self) -> Vec<&str> {
+        let mut topics: Vec<&str> = match &self.topic {
+            Some(t) => vec![t],
+            None => GNSS_TOPICS.to_vec(),
+        };
+        topics.push("vehicle_status");
+        topics.extend(self.camera_trigger.as_deref());
+        topics
     }
 }
 
@@ -501,9 +524,9 @@ impl GpsDumpChunk<'_> {
     }
 }
 
-/// Every message of topic `gps_dump` (all instances, in file order), as
-/// `extract_gps_dump` reads them: `len` (bit 7: to the device) and `data` (bytes),
-/// and `instance` where the format has it.
+/// Every message of topic `gps_dump` ([`GPS_DUMP_TOPIC`]; all instances, in file
+/// order), as `extract_gps_dump` reads them: `len` (bit 7: to the device) and `data`
+/// (bytes), and `instance` where the format has it.
 ///
 /// An error when the log has no `gps_dump` topic or its format has no `len` or
 /// `data`; an empty list when the topic has no data.
@@ -526,7 +549,7 @@ impl GpsDumpChunk<'_> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn gps_dump<'a>(log: &ULog<'a>) -> Result<Vec<GpsDumpChunk<'a>>, TrackError> {
-    const TOPIC: &str = "gps_dump";
+    const TOPIC: &str = GPS_DUMP_TOPIC;
     let topics = log.topic_instances(TOPIC);
     if topics.is_empty() {
         return Err(LookupError::Topic(TopicNotFound::in_log(log, TOPIC, None)).into());

@@ -30,6 +30,7 @@ mod error;
 mod layout;
 mod parse;
 mod span;
+pub mod suggest;
 
 pub use basic::BasicType;
 pub use error::{FormatError, FormatErrorKind, LayoutError, LayoutErrorKind};

@@ -74,6 +74,23 @@ fn scan_only(path: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `scan` of `Source::file`, the next chunk read ahead, counting the data messages:
+/// framing in chunks, for reference beside `floor --chunks`; with `keep`, the
+/// metadata kept too (`ulog info`'s pass without the printing).
+fn scan_file(path: &str, keep: bool) -> Result<(), Failure> {
+    let options = ScanOptions::default().read_ahead(true).keep_metadata(keep);
+    let mut data = 0u64;
+    let summary = ulog_core::scan(ulog_core::Source::file(path), &options, |_| data += 1)?;
+    let rows: u64 = summary
+        .metadata
+        .iter()
+        .flat_map(|m| m.topics())
+        .map(|t| t.rows)
+        .sum();
+    println!("messages={} data={data} check={rows}", summary.messages);
+    Ok(())
+}
+
 /// What a subscription's data messages are read with: a block of its payloads whose
 /// numeric columns are read at once, and readers for its `char[N]` strings.
 struct Decoder {
@@ -228,7 +245,7 @@ fn typed(path: &str) -> Result<(), Failure> {
     let mut rows = 0u64;
     let mut failed: Option<ulog_core::TypedError> = None;
     let options = ScanOptions::default();
-    ulog_core::scan_topics::<Topics, _, _>(&file, &options, |record| match record {
+    ulog_core::scan_topics::<Topics>(&file, &options, |record| match record {
         // Without `raw_others`, every record handed out is decoded.
         Ok(m) => {
             rows += 1;
@@ -356,7 +373,7 @@ fn write(out: &str, messages: u64) -> Result<(), Failure> {
     Ok(())
 }
 
-const USAGE: &str = "usage: ours (framing|scan|decode-stream|decode-ahead|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
+const USAGE: &str = "usage: ours (framing|scan|scan-file|metadata|decode-stream|decode-ahead|decode-mmap|typed|typed-indexed) FILE | ours columns FILE [THREADS] | ours columns-indexed FILE THREADS | ours write OUT MESSAGES";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -364,6 +381,8 @@ fn main() -> ExitCode {
     let result = match a.as_slice() {
         ["framing", f] => framing(f),
         ["scan", f] => scan_only(f),
+        ["scan-file", f] => scan_file(f, false),
+        ["metadata", f] => scan_file(f, true),
         ["decode-stream", f] => decode_stream(f, false),
         ["decode-ahead", f] => decode_stream(f, true),
         ["decode-mmap", f] => decode_mmap(f),

@@ -79,7 +79,15 @@ impl ViewVisitor for Checker<'_, '_> {
             if rows.is_empty() {
                 continue;
             }
-            let views: Vec<_> = rows.views().collect();
+            // Refused once for all rows, or borrowed row by row.
+            let views: Vec<_> = match rows.views() {
+                Ok(views) => views.collect(),
+                Err(e) => {
+                    self.not_borrowed
+                        .push((T::NAME.to_owned(), rows.len(), e.to_string()));
+                    Vec::new()
+                }
+            };
             let mut why = None;
             for (i, v) in views.iter().enumerate() {
                 match v {
@@ -98,19 +106,21 @@ impl ViewVisitor for Checker<'_, '_> {
                 self.not_borrowed.push((T::NAME.to_owned(), n, text));
             }
             // Every value, borrowed or (where it cannot be) copied, against pyulog's.
-            self.compare(rows.topic(), &mut |i, f| match views.get(i) {
-                Some(Ok(v)) => {
-                    v.visit_fields(f);
-                    true
-                }
-                Some(Err(_)) => {
-                    let m = rows.get(i).unwrap();
-                    m.unwrap_or_else(|e| panic!("`{}` row {i}: {e}", T::NAME))
-                        .visit_fields(f);
-                    true
-                }
-                None => false,
-            });
+            self.compare(
+                rows.topic(),
+                &mut |i, f| match (views.get(i), rows.get(i)) {
+                    (Some(Ok(v)), _) => {
+                        v.visit_fields(f);
+                        true
+                    }
+                    (_, Some(m)) => {
+                        m.unwrap_or_else(|e| panic!("`{}` row {i}: {e}", T::NAME))
+                            .visit_fields(f);
+                        true
+                    }
+                    (_, None) => false,
+                },
+            );
         }
     }
 }

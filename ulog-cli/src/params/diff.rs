@@ -11,7 +11,7 @@ use serde_json::Value as Json;
 use ulog_core::read::{self, ParamDiff};
 use ulog_core::{ULog, Value};
 
-use super::{Args, DefaultKind, OutputFormat, NO_DEFAULTS};
+use super::{no_defaults, Args, DefaultKind, OutputFormat};
 use crate::describe::value_json;
 use crate::failure::{io_text, Failure};
 use crate::input;
@@ -30,17 +30,15 @@ pub(super) fn usage_error(message: &str) -> ! {
 /// json: `super::run` checked it).
 pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
     let name_a = args.file.display().to_string();
-    let file_a = input::open(&args.file)?;
-    let log_a = input::parse(&name_a, file_a.bytes())?;
-    let file_b = match &args.diff {
-        Some(path_b) => Some((path_b, input::open(path_b)?)),
+    // The parameters are metadata: one pass over each log in chunks.
+    let kept_a = input::keep(&args.file, &[])?;
+    let log_a = kept_a.log(&name_a)?;
+    let kept_b = match &args.diff {
+        Some(path_b) => Some((path_b, input::keep(path_b, &[])?)),
         None => None,
     };
-    let log_b = match &file_b {
-        Some((path_b, file)) => Some((
-            path_b,
-            input::parse(&path_b.display().to_string(), file.bytes())?,
-        )),
+    let log_b = match &kept_b {
+        Some((path_b, kept)) => Some((path_b, kept.log(&path_b.display().to_string())?)),
         None => None,
     };
     fn values<'a>(log: &ULog<'a>, initial: bool) -> BTreeMap<String, Value<'a>> {
@@ -67,7 +65,7 @@ pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
                 .flag_bits()
                 .is_some_and(|f| f.has_default_parameters())
             {
-                return Err(Failure::about(&name_a, NO_DEFAULTS));
+                return Err(Failure::lacking(&name_a, no_defaults("--diff-defaults")));
             }
             let (kind, title) = match kind {
                 DefaultKind::System => (read::DefaultKind::System, "system_default"),
@@ -89,7 +87,7 @@ pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
         OutputFormat::Json => json(&diffs),
         _ => table(&diffs, &columns),
     };
-    let (out_name, sink): (String, Box<dyn Write>) = match &args.output {
+    let (out_name, sink): (String, Box<dyn Write>) = match args.output() {
         Some(p) => {
             let f = File::create(p).map_err(|e| Failure::unreadable(p.display(), io_text(&e)))?;
             (p.display().to_string(), Box::new(f))

@@ -111,7 +111,11 @@ impl<B: DrawingBackend> DrawingBackend for WithFont<B> {
         pos: BackendCoord,
     ) -> Res<B> {
         if !self.raster {
-            return self.inner.draw_text(text, style, pos);
+            // The SVG backend escapes markup, not what XML cannot hold (a logged
+            // message's control characters).
+            return self
+                .inner
+                .draw_text(&crate::markup::plain(text), style, pos);
         }
         let colour = style.color();
         if colour.alpha == 0.0 {

@@ -1,6 +1,6 @@
 //! The points of each field to plot: (seconds since log start, value).
 
-use ulog_core::read::{FieldShape, Unwrapper};
+use ulog_core::read::{FieldShape, TimeSpan, Unwrapper};
 use ulog_core::{FieldReader, LookupError, Topic, ULog};
 
 use super::spec::FieldSpec;
@@ -29,13 +29,14 @@ impl Series {
 }
 
 /// The series `spec` names in `log` (one per element when the field is a whole array),
-/// timestamps counted from `start_us`. Unknown names fail with the closest name the log
-/// has.
+/// on the time axis of the log's span (seconds since its start; rows made before
+/// logging began at 0, stray ones left out: `TimeSpan`). Unknown names fail with the
+/// closest name the log has.
 pub fn read(
     log: &ULog<'_>,
     file: &str,
     spec: &FieldSpec,
-    start_us: u64,
+    span: &TimeSpan,
 ) -> Result<Vec<Series>, Failure> {
     let topic = find_topic(log, file, spec)?;
     let several = log.topic_instances(topic.name()).len() > 1;
@@ -95,10 +96,10 @@ pub fn read(
         .collect();
     let mut clock = Unwrapper::new(topic.timestamp_field());
     for payload in topic.payloads() {
-        let Some(t) = clock.push(payload) else {
+        let Some(t) = clock.push(payload).and_then(|t| span.axis_time(t)) else {
             continue;
         };
-        let x = (t as f64 - start_us as f64) / 1e6;
+        let x = span.seconds(t);
         for (s, (_, r)) in series.iter_mut().zip(&readers) {
             if let Some(y) = r.read_f64(payload).filter(|y| y.is_finite()) {
                 s.points.push((x, y));

@@ -88,8 +88,7 @@ pub fn header(
             ),
         },
     );
-    let duration = log.last_timestamp().saturating_sub(start) as f64 / 1e6;
-    add("Duration", hms(duration));
+    add("Duration", hms(log.span().duration_s()));
     if armed_s > 0.0 {
         add("Armed", hms(armed_s));
     }
@@ -144,6 +143,10 @@ pub fn header(
             format!("{} finding(s): {}", damage.len(), damage.join("; "))
         },
     );
+    let outliers = span_outliers(log);
+    if !outliers.is_empty() {
+        add("Timestamps off the time axis", outliers.join("; "));
+    }
     let d = log.dropouts();
     add(
         "Dropouts",
@@ -160,6 +163,24 @@ pub fn header(
         },
     );
     rows
+}
+
+/// The rows far outside the log's time span, one line per topic instance and side.
+pub fn span_outliers(log: &ULog<'_>) -> Vec<String> {
+    let span = log.span();
+    span.outliers()
+        .iter()
+        .map(|o| {
+            let topic = log.subscriptions().get(o.subscription).map_or_else(
+                || format!("subscription {}", o.subscription),
+                |s| match s.multi_id() {
+                    0 => s.name().to_owned(),
+                    m => format!("{}:{m}", s.name()),
+                },
+            );
+            o.describe(&topic, span)
+        })
+        .collect()
 }
 
 /// `h:mm:ss` of seconds.
@@ -213,30 +234,67 @@ pub fn params_changed(log: &ULog<'_>, start: u64) -> Vec<(f64, String, String)> 
         .collect()
 }
 
+/// A value of the information tables: text, or bytes that are no text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Shown {
+    /// Text: a string, or a number as Python prints it.
+    Text(String),
+    /// The bytes of an array of a basic type other than `char` (PX4's
+    /// `metadata_events` is xz-compressed JSON in a `uint8_t` array) or of a value this
+    /// reader cannot decode.
+    Bytes(Vec<u8>),
+}
+
+/// An information row: the key, and its value (one per entry of a multi-information
+/// key, in file order).
+pub type InfoRow = (String, Vec<Shown>);
+
+/// A value as the tables show it.
+fn shown(parts: &[KeyValue<'_>]) -> Shown {
+    let bytes = |kv: &KeyValue<'_>| matches!(kv.value(), Value::Array(_) | Value::Bytes(_));
+    // The entry's first part decides, as for ulog_info: the parts of one entry are
+    // the pieces of one value.
+    if parts.first().is_some_and(bytes) {
+        return Shown::Bytes(parts.iter().flat_map(|kv| kv.raw.iter().copied()).collect());
+    }
+    let texts: Vec<String> = parts.iter().map(|kv| py_str(&kv.value())).collect();
+    // PX4 logs its perf counters one line per part, without line breaks, and its boot
+    // console output in chunks cut anywhere: parts without a line break are lines.
+    let lines = texts.len() > 1 && !texts.iter().any(|t| t.contains('\n'));
+    Shown::Text(texts.join(if lines { "\n" } else { "" }))
+}
+
 /// Information (last value per key, in file order of first appearance) and
-/// multi-information (each entry's parts joined).
-pub fn information(log: &ULog<'_>) -> (Vec<Row>, Vec<Row>) {
-    let mut info: Vec<Row> = Vec::new();
+/// multi-information (each entry's parts joined; the entries of a key that are all
+/// text as the lines of one text, as PX4's `excluded_optional_topics`).
+pub fn information(log: &ULog<'_>) -> (Vec<InfoRow>, Vec<InfoRow>) {
+    let mut info: Vec<InfoRow> = Vec::new();
     for kv in log.info() {
-        let (k, v) = (kv.name().into_owned(), py_str(&kv.value()));
+        let (k, v) = (
+            kv.name().into_owned(),
+            vec![shown(std::slice::from_ref(kv))],
+        );
         match info.iter_mut().find(|r| r.0 == k) {
             Some(r) => r.1 = v,
             None => info.push((k, v)),
         }
     }
-    let joined = |parts: &[KeyValue<'_>]| -> String {
-        parts
-            .iter()
-            .map(|kv| py_str(&kv.value()))
-            .collect::<Vec<_>>()
-            .join("")
-    };
     let multi = log
         .multi_info()
         .iter()
         .map(|m| {
-            let entries: Vec<String> = m.entries.iter().map(|e| joined(e)).collect();
-            (m.name.clone(), entries.join("\n"))
+            let entries: Vec<Shown> = m.entries.iter().map(|e| shown(e)).collect();
+            let texts: Option<Vec<&str>> = entries
+                .iter()
+                .map(|e| match e {
+                    Shown::Text(t) => Some(t.as_str()),
+                    Shown::Bytes(_) => None,
+                })
+                .collect();
+            match texts {
+                Some(t) if t.len() > 1 => (m.name.clone(), vec![Shown::Text(t.join("\n"))]),
+                _ => (m.name.clone(), entries),
+            }
         })
         .collect();
     (info, multi)

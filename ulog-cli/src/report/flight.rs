@@ -7,6 +7,7 @@
 //! `ULog::read` picks (instance 0), decoded with the plan it makes, as the second pass
 //! ([`super::pass`]) hands the rows.
 
+use ulog_core::read::TimeSpan;
 use ulog_core::typed::Plan;
 use ulog_core::{ULog, ULogMessage};
 
@@ -71,7 +72,12 @@ struct BatteryStatus {
 /// The subscription `ULog::read::<T>(0)` reads, and the plan it decodes its rows
 /// with; `None` where the log has no such topic or its format does not fit `T`.
 pub(super) fn typed<T: ULogMessage>(log: &ULog<'_>) -> Option<(usize, Plan<T>)> {
-    let rows = log.read::<T>(0).ok()?;
+    typed_instance(log, 0)
+}
+
+/// [`typed`] of instance `multi_id`.
+fn typed_instance<T: ULogMessage>(log: &ULog<'_>, multi_id: u8) -> Option<(usize, Plan<T>)> {
+    let rows = log.read::<T>(multi_id).ok()?;
     Some((rows.topic().subscription().index(), rows.plan().clone()))
 }
 
@@ -125,9 +131,15 @@ struct AngleRows<T> {
 }
 
 impl<T: ULogMessage + Angles> AngleRows<T> {
-    fn new(log: &ULog<'_>, rows: &[usize], what: &str, start_us: u64, end_us: u64) -> Option<Self> {
-        let (sub, plan) = typed::<T>(log)?;
-        let builder = Builder::new(names(what), count(rows, sub), start_us, end_us);
+    fn new(
+        log: &ULog<'_>,
+        rows: &[usize],
+        what: &str,
+        span: &TimeSpan,
+        multi_id: u8,
+    ) -> Option<Self> {
+        let (sub, plan) = typed_instance::<T>(log, multi_id)?;
+        let builder = Builder::new(names(what), count(rows, sub), span);
         Some(AngleRows { sub, plan, builder })
     }
 }
@@ -142,27 +154,41 @@ impl<T: ULogMessage + Angles> Rows for AngleRows<T> {
 
 /// The roll, pitch and yaw plots (estimate and setpoint) being read.
 pub struct Attitude {
-    estimate: Option<AngleRows<VehicleAttitude>>,
+    /// Each instance of the estimate: PX4 logs one; a replay or an estimator under
+    /// test writes its own beside it (instance 1, …), drawn as `estimate 1`, ….
+    estimates: Vec<(u8, AngleRows<VehicleAttitude>)>,
     setpoint: Option<AngleRows<VehicleAttitudeSetpoint>>,
 }
 
 /// The attitude plots, to be read where the log has attitude.
-pub fn attitude(log: &ULog<'_>, rows: &[usize], start_us: u64, end_us: u64) -> Attitude {
+pub fn attitude(log: &ULog<'_>, rows: &[usize], span: &TimeSpan) -> Attitude {
+    let estimates = log
+        .topic_instances(VehicleAttitude::NAME)
+        .iter()
+        .filter_map(|t| {
+            let id = t.multi_id();
+            let what = match id {
+                0 => "estimate".to_owned(),
+                n => format!("estimate {n}"),
+            };
+            Some((id, AngleRows::new(log, rows, &what, span, id)?))
+        })
+        .collect();
     Attitude {
-        estimate: AngleRows::new(log, rows, "estimate", start_us, end_us),
-        setpoint: AngleRows::new(log, rows, "setpoint", start_us, end_us),
+        estimates,
+        setpoint: AngleRows::new(log, rows, "setpoint", span, 0),
     }
 }
 
 impl Attitude {
     /// Whether the log has neither topic.
     pub fn is_none(&self) -> bool {
-        self.estimate.is_none() && self.setpoint.is_none()
+        self.estimates.is_empty() && self.setpoint.is_none()
     }
 
     /// Has the second pass hand the attitude rows here.
     pub fn route<'c>(&'c mut self, routes: &mut Routes<'c>) {
-        if let Some(e) = &mut self.estimate {
+        for (_, e) in &mut self.estimates {
             routes.add(e.sub, e);
         }
         if let Some(s) = &mut self.setpoint {
@@ -173,8 +199,21 @@ impl Attitude {
     /// The roll, pitch and yaw plots (estimate and setpoint), where the log has
     /// attitude.
     pub fn finish(self) -> Vec<Plot> {
-        let estimate = self.estimate.map(|e| e.builder.finish());
-        let setpoint = self.setpoint.map(|s| s.builder.finish());
+        let mut tables: Vec<(Option<Table>, String)> = self
+            .estimates
+            .into_iter()
+            .map(|(id, e)| {
+                let topic = match id {
+                    0 => VehicleAttitude::NAME.to_owned(),
+                    n => format!("{}:{n}", VehicleAttitude::NAME),
+                };
+                (Some(e.builder.finish()), topic)
+            })
+            .collect();
+        tables.push((
+            self.setpoint.map(|s| s.builder.finish()),
+            VehicleAttitudeSetpoint::NAME.to_owned(),
+        ));
         let mut plots = Vec::new();
         for (axis, (id, title)) in [
             ("roll", "Roll angle"),
@@ -191,12 +230,9 @@ impl Attitude {
                 sources: Vec::new(),
                 tables: Vec::new(),
             };
-            for (table, topic) in [
-                (&estimate, "vehicle_attitude"),
-                (&setpoint, "vehicle_attitude_setpoint"),
-            ] {
+            for (table, topic) in &tables {
                 if let Some(t) = table.as_ref().filter(|t| !t.x.is_empty()) {
-                    plot.sources.push(topic.to_owned());
+                    plot.sources.push(topic.clone());
                     plot.tables.push(Table {
                         labels: vec![t.labels[axis].clone()],
                         x: t.x.clone(),
@@ -433,5 +469,46 @@ mod tests {
         // Pitch away from ±90°, where roll and yaw are undefined.
         let (c, s) = (15f32.to_radians().cos(), 15f32.to_radians().sin());
         assert!(close(euler([c, 0.0, s, 0.0]), [0.0, 30.0, 0.0]));
+    }
+
+    #[test]
+    fn every_instance_of_the_estimate_is_drawn() {
+        // A replay's estimate (instance 1) beside the logged one, as the
+        // `replay_attitude` example writes them.
+        let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+        b.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+        b.subscribe(0, 0, "vehicle_attitude");
+        b.subscribe(1, 1, "vehicle_attitude");
+        for t in [1_000u64, 2_000] {
+            for msg_id in [0, 1] {
+                let mut payload = t.to_le_bytes().to_vec();
+                for v in [1.0f32, 0.0, 0.0, 0.0] {
+                    payload.extend(v.to_le_bytes());
+                }
+                b.data(msg_id, &payload);
+            }
+        }
+        let bytes = b.into_bytes();
+        let log = ULog::parse(&bytes).unwrap();
+        let mut rows = vec![0; 2];
+        for t in log.topics() {
+            rows[t.subscription().index()] = t.len();
+        }
+        let mut attitude = attitude(&log, &rows, log.span());
+        for (id, e) in &mut attitude.estimates {
+            for p in log.topic("vehicle_attitude", *id).unwrap().payloads() {
+                e.push(p);
+            }
+        }
+        let plots = attitude.finish();
+        let ids: Vec<&str> = plots.iter().map(|p| p.id.as_str()).collect();
+        assert_eq!(ids, ["roll", "pitch", "yaw"]);
+        assert_eq!(plots[0].sources, ["vehicle_attitude", "vehicle_attitude:1"]);
+        let labels: Vec<&str> = plots[0]
+            .tables
+            .iter()
+            .map(|t| t.labels[0].as_str())
+            .collect();
+        assert_eq!(labels, ["roll estimate", "roll estimate 1"]);
     }
 }

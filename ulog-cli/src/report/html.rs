@@ -8,10 +8,11 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::facts::Row;
+use super::facts::{InfoRow, Row, Shown};
 use super::plots::{Missing, Plot};
 use super::timeline::{Mark, ModeBand};
-use crate::markup::escape;
+use crate::describe::{bytes_kind, thousands, BINARY};
+use crate::markup::{self, data_uri, escape};
 
 const UPLOT_JS: &str = include_str!("../../assets/report/uPlot.iife.min.js");
 const UPLOT_CSS: &str = include_str!("../../assets/report/uPlot.min.css");
@@ -53,9 +54,9 @@ pub struct Page {
     /// (seconds, name, value).
     pub params_changed: Vec<(f64, String, String)>,
     /// Information.
-    pub info: Vec<Row>,
+    pub info: Vec<InfoRow>,
     /// Multi-information.
-    pub multi: Vec<Row>,
+    pub multi: Vec<InfoRow>,
     /// The drawn part.
     pub drawn: Drawn,
 }
@@ -75,9 +76,7 @@ fn clock(s: f64) -> String {
 
 /// The page's HTML.
 pub fn render(page: &Page) -> Result<String, serde_json::Error> {
-    // `</` (or `<!--`) inside the JSON would end the script element early; `<` only
-    // occurs in JSON strings, where `\u003c` means the same.
-    let data = serde_json::to_string(&page.drawn)?.replace('<', "\\u003c");
+    let data = script_json(&serde_json::to_string(&page.drawn)?);
     let mut h = String::with_capacity(data.len() + UPLOT_JS.len() + 64 * 1024);
     let title = escape(&page.title);
     let _ = write!(
@@ -203,7 +202,19 @@ pub fn severity(level: &str) -> u8 {
         .unwrap_or(7)
 }
 
-fn key_values(h: &mut String, title: &str, id: &str, rows: &[Row]) {
+/// Texts of more lines than this, or more characters, are folded under their first
+/// line.
+const FOLD_LINES: usize = 12;
+const FOLD_CHARS: usize = 2_000;
+/// The characters of a folded text's first line shown.
+const SUMMARY_CHARS: usize = 120;
+/// Byte values up to this size are also shown in hex.
+const HEX_BYTES: usize = 64;
+/// Byte values up to this size can be downloaded from the page (a `data:` link, a
+/// third larger than the bytes; PX4's `metadata_events` is some 50 KB).
+const LINK_BYTES: usize = 256 * 1024;
+
+fn key_values(h: &mut String, title: &str, id: &str, rows: &[InfoRow]) {
     let _ = writeln!(h, "<section><h2>{title}</h2>");
     if rows.is_empty() {
         h.push_str("<p class=\"note\">None.</p></section>\n");
@@ -213,15 +224,96 @@ fn key_values(h: &mut String, title: &str, id: &str, rows: &[Row]) {
         h,
         "<table id=\"{id}\" class=\"list\"><thead><tr><th>key</th><th>value</th></tr></thead><tbody>"
     );
-    for (k, v) in rows {
-        let _ = writeln!(
-            h,
-            "<tr><td>{}</td><td><pre>{}</pre></td></tr>",
-            escape(k),
-            escape(v)
-        );
+    for (k, entries) in rows {
+        let _ = write!(h, "<tr><td>{}</td><td>", escape(k));
+        for (i, v) in entries.iter().enumerate() {
+            // A key logged several times (multi-information): each entry on its own.
+            let name = match entries.len() {
+                1 => k.clone(),
+                n => {
+                    let _ = write!(h, "<div class=\"entry\">{} of {n}</div>", i + 1);
+                    format!("{k}_{}", i + 1)
+                }
+            };
+            value_html(h, &name, v);
+        }
+        h.push_str("</td></tr>\n");
     }
     h.push_str("</tbody></table></section>\n");
+}
+
+/// One value of the information tables: a text (folded under its first line when
+/// long), or bytes as their size and what they are (told by their magic number), in
+/// hex when short, with a link that downloads them (as `name.<extension>`) unless
+/// they are large.
+fn value_html(h: &mut String, name: &str, v: &Shown) {
+    match v {
+        Shown::Text(t) if t.lines().count() > FOLD_LINES || t.chars().count() > FOLD_CHARS => {
+            let first = t.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+            let mut shown: String = first.chars().take(SUMMARY_CHARS).collect();
+            if shown.len() < first.len() {
+                shown.push('…');
+            }
+            let _ = write!(
+                h,
+                "<details class=\"long\"><summary><code>{}</code> ({} lines, {} characters)</summary><pre>{}</pre></details>",
+                escape(&shown),
+                thousands(t.lines().count()),
+                thousands(t.chars().count()),
+                escape(t)
+            );
+        }
+        Shown::Text(t) => {
+            let _ = write!(h, "<pre>{}</pre>", escape(t));
+        }
+        Shown::Bytes(b) => {
+            let kind = bytes_kind(b);
+            let _ = write!(
+                h,
+                "<span class=\"bytes\">{} byte{}, {}</span>",
+                thousands(b.len()),
+                if b.len() == 1 { "" } else { "s" },
+                kind.unwrap_or(BINARY).name
+            );
+            if b.len() <= HEX_BYTES {
+                let hex: Vec<String> = b.iter().map(|x| format!("{x:02x}")).collect();
+                let _ = write!(h, " <code class=\"hex\">{}</code>", hex.join(" "));
+            }
+            if b.is_empty() {
+                return;
+            }
+            if b.len() <= LINK_BYTES {
+                let kind = kind.unwrap_or(BINARY);
+                let _ = write!(
+                    h,
+                    " <a class=\"download\" download=\"{}.{}\" href=\"{}\">download</a>",
+                    escape(name),
+                    kind.extension,
+                    data_uri(kind.mime, b)
+                );
+            } else {
+                h.push_str(" (too large to embed)");
+            }
+        }
+    }
+}
+
+/// JSON for a `<script>` element: `<` (`</` or `<!--` would end the element early)
+/// and the characters HTML cannot hold ([`markup::unfit`]) as `\u` escapes, which JSON
+/// reads as the same text. Both only occur inside JSON strings.
+fn script_json(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        if c == '<' || markup::unfit(c) {
+            let mut units = [0u16; 2];
+            for u in c.encode_utf16(&mut units) {
+                let _ = write!(out, "\\u{u:04x}");
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -234,5 +326,16 @@ mod tests {
         assert_eq!(clock(3723.0456), "1:02:03.046");
         assert_eq!(severity("ERROR"), 3);
         assert_eq!(severity("UNKNOWN"), 7);
+    }
+
+    #[test]
+    fn script_json_holds_no_markup_and_reads_back_the_same() {
+        let text = "</script><!-- \u{1}\u{7f}\u{85}\u{fffe}\u{1fffe} é";
+        let json = serde_json::to_string(&text).unwrap();
+        let safe = script_json(&json);
+        assert!(!safe.contains('<'), "{safe}");
+        assert!(!safe.chars().any(markup::unfit), "{safe}");
+        let back: String = serde_json::from_str(&safe).unwrap();
+        assert_eq!(back, text);
     }
 }

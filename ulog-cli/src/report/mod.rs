@@ -39,7 +39,8 @@ use crate::input;
 ///
 /// Then the tables: logged messages and events (filterable by level), parameters
 /// changed from their defaults and during the flight, information and
-/// multi-information.
+/// multi-information. Text is escaped; characters HTML cannot hold (control characters
+/// but tab and line breaks, noncharacters) are shown as U+FFFD.
 ///
 /// Long series are thinned so that the file stays small: the log's time span is cut
 /// into 2000 columns; a topic with at most 16000 rows keeps every row (full detail on
@@ -79,18 +80,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .log()
         .map_err(|e| Failure::new(Status::Refused, &name, input::error_text(&e)))?;
     let rows = &survey.rows;
-    let start = time_origin(&log, &survey.first);
-    let end = log.last_timestamp().max(start);
+    // One time axis: the log's span (`TimeSpan`), which stale or stray timestamps
+    // do not stretch; the rows far outside it are listed with the damage.
+    let span = log.span().clone();
+    let start = span.start();
 
-    let mut timeline = timeline::timeline(&log, start);
+    let mut timeline = timeline::timeline(&log, &span);
     let mut figures = flight::figures(&log);
-    let mut standard = plots::standard(&log, rows, start, end);
-    let mut attitude = flight::attitude(&log, rows, start, end);
+    let mut standard = plots::standard(&log, rows, &span);
+    let mut attitude = flight::attitude(&log, rows, &span);
     let mut track = flight::track(&log, rows, TRACK_POINTS);
     // A log with none of the standard topics has every topic plotted: read in the
     // same pass.
     let mut others = (plots::none_found(&standard) && attitude.is_none())
-        .then(|| plots::every_topic(&log, rows, start, end, FIELDS_PER_TOPIC));
+        .then(|| plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC));
     let mut routes = pass::Routes::new(log.subscriptions().len());
     timeline.route(&mut routes);
     figures.route(&mut routes);
@@ -104,7 +107,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     pass::read(&input, &name, &survey, routes)?;
 
-    let timeline = timeline.finish(end);
+    let timeline = timeline.finish();
     let figures = figures.finish();
     let (mut plots, missing) = plots::finish_standard(standard);
     // Attitude after altitude, as Flight Review orders them.
@@ -124,7 +127,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             Some(o) => o,
             // Standard topics whose values all turned out missing: one more pass.
             None => {
-                let mut o = plots::every_topic(&log, rows, start, end, FIELDS_PER_TOPIC);
+                let mut o = plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC);
                 let mut routes = pass::Routes::new(log.subscriptions().len());
                 plots::route_topics(&mut o, &mut routes);
                 pass::read(&input, &name, &survey, routes)?;
@@ -174,7 +177,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         multi,
         drawn: html::Drawn {
             origin_us: start,
-            duration: (end - start) as f64 / 1e6,
+            duration: span.duration_s(),
             modes: timeline.modes,
             marks,
             plots,
@@ -200,17 +203,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         open_in_browser(&out).map_err(|e| Failure::about(&shown, e))?;
     }
     Ok(())
-}
-
-/// Time zero of the page: the header's timestamp, or where that is zero (a writer
-/// that does not set it, or a log whose uploader zeroed it) the first data timestamp
-/// (the lowest of the topics' first rows' timestamps, `first`).
-fn time_origin(log: &ulog_core::ULog<'_>, first: &[Option<u64>]) -> u64 {
-    let header = log.start_timestamp();
-    if header != 0 {
-        return header;
-    }
-    first.iter().flatten().min().copied().unwrap_or(0)
 }
 
 /// `<FILE without its extension>_report.html`, next to FILE.

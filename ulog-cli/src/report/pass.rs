@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
-use ulog_core::read::{LogMetadata, ReadErrorKind, Unwrapper};
+use ulog_core::read::LogMetadata;
 use ulog_core::{LogFile, ReadError, ScanOptions, ScanSummary, Source};
 
-use crate::failure::{Failure, Status};
+use crate::failure::Failure;
 use crate::input;
 
 /// Where the log is read from, once per pass.
@@ -59,8 +59,6 @@ pub struct Survey {
     pub metadata: LogMetadata,
     /// Per subscription, its data messages.
     pub rows: Vec<usize>,
-    /// Per subscription, the timestamp of its first data message, when it has one.
-    pub first: Vec<Option<u64>>,
     /// The file's size and time before the first pass ([`Input::stamp`]).
     stamp: Option<(u64, Option<std::time::SystemTime>)>,
 }
@@ -70,26 +68,20 @@ fn options() -> ScanOptions {
     ScanOptions::default().read_ahead(true)
 }
 
-/// The first pass: metadata, rows and first timestamps.
+/// The first pass: metadata and rows.
 pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
     let mut rows: Vec<usize> = Vec::new();
-    let mut first: Vec<Option<u64>> = Vec::new();
     let keep = options().keep_metadata(true);
     let stamp = input.stamp();
     let mut summary = ulog_core::scan(input.source(), &keep, |r| {
         let i = r.topic.index();
         if rows.len() <= i {
             rows.resize(i + 1, 0);
-            first.resize(i + 1, None);
-        }
-        if rows[i] == 0 {
-            first[i] = Unwrapper::new(r.topic.timestamp_field()).push(r.payload);
         }
         rows[i] += 1;
     })
     .map_err(|e| failure(input, name, &e))?;
     rows.resize(summary.topics.len(), 0);
-    first.resize(summary.topics.len(), None);
     let Some(metadata) = summary.metadata.take() else {
         unreachable!("a pass asked to keep the metadata keeps it")
     };
@@ -97,7 +89,6 @@ pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
         summary,
         metadata,
         rows,
-        first,
         stamp,
     })
 }
@@ -171,10 +162,9 @@ pub fn read(
 /// The failure of a pass, as reading the whole file and parsing it gave it: a read
 /// that fails is about the file, a log that is not one (or is refused) about `name`.
 fn failure(input: &Input, name: &str, e: &ReadError) -> Failure {
-    match (input, e.kind()) {
-        (Input::File(path), ReadErrorKind::Io(_)) => {
-            Failure::unreadable(path.display(), input::error_text(e))
-        }
-        _ => Failure::new(Status::Refused, name, input::error_text(e)),
-    }
+    let path = match input {
+        Input::File(path) => Some(path.as_path()),
+        Input::Read(_) => None,
+    };
+    input::pass_failure(path, name, e)
 }

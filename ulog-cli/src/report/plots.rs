@@ -3,7 +3,7 @@
 //! pass hands its rows ([`super::pass`]).
 
 use serde::Serialize;
-use ulog_core::read::Unwrapper;
+use ulog_core::read::{TimeSpan, Unwrapper};
 use ulog_core::{FieldReader, Topic, ULog};
 
 use super::pass::{Routes, Rows};
@@ -41,7 +41,7 @@ pub struct Pending {
 }
 
 /// The standard plots, to be read: `rows` has each subscription's data messages.
-pub fn standard(log: &ULog<'_>, rows: &[usize], start_us: u64, end_us: u64) -> Vec<Pending> {
+pub fn standard(log: &ULog<'_>, rows: &[usize], span: &TimeSpan) -> Vec<Pending> {
     PLOTS
         .iter()
         .map(|spec| Pending {
@@ -51,7 +51,7 @@ pub fn standard(log: &ULog<'_>, rows: &[usize], start_us: u64, end_us: u64) -> V
                 .iter()
                 .filter_map(|group| {
                     let (topic, lines) = find(log, rows, group)?;
-                    let table = GroupRows::new(&topic, rows, lines, start_us, end_us);
+                    let table = GroupRows::new(&topic, rows, lines, span);
                     Some((topic.name().to_owned(), table))
                 })
                 .collect(),
@@ -184,13 +184,12 @@ impl GroupRows {
         topic: &Topic<'_, '_>,
         rows: &[usize],
         lines: Vec<(String, Reader)>,
-        start_us: u64,
-        end_us: u64,
+        span: &TimeSpan,
     ) -> GroupRows {
         let (labels, readers): (Vec<String>, Vec<Reader>) = lines.into_iter().unzip();
         GroupRows {
             sub: topic.subscription().index(),
-            builder: Builder::new(labels, count(rows, topic), start_us, end_us),
+            builder: Builder::new(labels, count(rows, topic), span),
             clock: Unwrapper::new(topic.timestamp_field()),
             row: vec![0f32; readers.len()],
             readers,
@@ -226,8 +225,7 @@ pub struct PendingTopic {
 pub fn every_topic(
     log: &ULog<'_>,
     rows: &[usize],
-    start_us: u64,
-    end_us: u64,
+    span: &TimeSpan,
     fields: usize,
 ) -> Vec<PendingTopic> {
     let mut plots = Vec::new();
@@ -255,7 +253,7 @@ pub fn every_topic(
         plots.push(PendingTopic {
             name: format!("{}:{}", topic.name(), topic.multi_id()),
             id: format!("topic_{}_{}", topic.name(), topic.multi_id()),
-            rows: GroupRows::new(&topic, rows, lines, start_us, end_us),
+            rows: GroupRows::new(&topic, rows, lines, span),
         });
     }
     plots

@@ -10,6 +10,7 @@
 //! shows that envelope, not every sample.
 
 use serde::ser::{Serialize, SerializeStruct, Serializer};
+use ulog_core::read::TimeSpan;
 
 /// Buckets over the log's time span.
 pub const COLUMNS: usize = 2000;
@@ -80,7 +81,7 @@ pub struct Builder {
     table: Table,
     lines: usize,
     thin: bool,
-    start_us: u64,
+    span: TimeSpan,
     scale: f64,
     bucket: Option<usize>,
     /// Candidate rows of the current bucket: slot 0 the first, 1 the last, then the
@@ -91,11 +92,10 @@ pub struct Builder {
 }
 
 impl Builder {
-    /// A builder for `labels`, of a topic with `rows` rows, in a log spanning
-    /// `start_us..=end_us`.
-    pub fn new(labels: Vec<String>, rows: usize, start_us: u64, end_us: u64) -> Builder {
+    /// A builder for `labels`, of a topic with `rows` rows, in a log of span `span`.
+    pub fn new(labels: Vec<String>, rows: usize, span: &TimeSpan) -> Builder {
         let lines = labels.len();
-        let span = end_us.saturating_sub(start_us).max(1) as f64;
+        let length = span.duration_us().max(1) as f64;
         let slots = 2 + 2 * lines;
         Builder {
             table: Table {
@@ -106,8 +106,8 @@ impl Builder {
             },
             lines,
             thin: rows > KEEP_WHOLE,
-            start_us,
-            scale: COLUMNS as f64 / span,
+            span: span.clone(),
+            scale: COLUMNS as f64 / length,
             bucket: None,
             slots: vec![None; slots],
             values: vec![f32::NAN; slots * lines],
@@ -118,12 +118,13 @@ impl Builder {
     /// Adds the row of time `timestamp` (microseconds) with one value per line.
     pub fn push(&mut self, timestamp: u64, values: &[f32]) {
         debug_assert_eq!(values.len(), self.lines);
-        // A message PX4 never stamped (a topic logged before its first publication):
-        // at time 0 of a log that starts later, it would stretch every plot back.
-        if timestamp == 0 && self.start_us > 0 {
+        // The log's span places rows made before logging began at its start and
+        // leaves stray ones off the axis (`TimeSpan`), so that none stretches the
+        // plots.
+        let Some(timestamp) = self.span.axis_time(timestamp) else {
             return;
-        }
-        let x = (timestamp as f64 - self.start_us as f64) / 1e6;
+        };
+        let x = self.span.seconds(timestamp);
         let row = self.row;
         self.row += 1;
         if !self.thin {
@@ -133,7 +134,7 @@ impl Builder {
             }
             return;
         }
-        let b = ((timestamp.saturating_sub(self.start_us) as f64 * self.scale) as usize)
+        let b = ((timestamp.saturating_sub(self.span.start()) as f64 * self.scale) as usize)
             .min(COLUMNS - 1);
         if self.bucket != Some(b) {
             self.flush();
@@ -210,7 +211,7 @@ mod tests {
 
     #[test]
     fn short_tables_are_kept_whole() {
-        let mut b = Builder::new(vec!["a".into()], 10, 1_000_000, 2_000_000);
+        let mut b = Builder::new(vec!["a".into()], 10, &TimeSpan::new(1_000_000, 2_000_000));
         for i in 0..10u64 {
             b.push(1_000_000 + i * 100_000, &[i as f32]);
         }
@@ -224,7 +225,11 @@ mod tests {
     #[test]
     fn long_tables_keep_each_buckets_ends_and_extremes() {
         let n = 200_000u64;
-        let mut b = Builder::new(vec!["a".into(), "b".into()], n as usize, 0, n - 1);
+        let mut b = Builder::new(
+            vec!["a".into(), "b".into()],
+            n as usize,
+            &TimeSpan::new(0, n - 1),
+        );
         for i in 0..n {
             let a = if i == 123_457 { 50.0 } else { 1.0 };
             let c = if i == 7 { f32::NAN } else { -(i as f32) };

@@ -3,6 +3,7 @@
 //! pass ([`super::pass`]) hands their rows.
 
 use serde::Serialize;
+use ulog_core::read::TimeSpan;
 use ulog_core::typed::Plan;
 use ulog_core::ULog;
 
@@ -69,16 +70,11 @@ pub struct Timeline {
     pub armed_s: f64,
 }
 
-/// Seconds since `start_us` of timestamp `t`.
-fn sec(start_us: u64, t: u64) -> f64 {
-    (t as f64 - start_us as f64) / 1e6
-}
-
 /// Flight modes and arming from `vehicle_status`, as its rows come.
 struct Status {
     sub: usize,
     plan: Plan<VehicleStatus>,
-    start_us: u64,
+    span: TimeSpan,
     modes: Vec<ModeBand>,
     marks: Vec<Mark>,
     armed_at: Option<f64>,
@@ -90,11 +86,11 @@ impl Rows for Status {
         let Ok(s) = self.plan.decode(payload) else {
             return;
         };
-        // Rows PX4 never stamped left out, as in the plots.
-        if s.timestamp == 0 && self.start_us != 0 {
+        // Placed on the log's time axis as in the plots.
+        let Some(at) = self.span.axis_time(s.timestamp) else {
             return;
-        }
-        let t = sec(self.start_us, s.timestamp);
+        };
+        let t = self.span.seconds(at);
         match self.modes.last_mut() {
             Some(m) if m.mode == s.nav_state => m.t1 = t,
             last => {
@@ -137,7 +133,7 @@ impl Rows for Status {
 struct Landings {
     sub: usize,
     plan: Plan<VehicleLandDetected>,
-    start_us: u64,
+    span: TimeSpan,
     landed: Option<bool>,
     marks: Vec<Mark>,
 }
@@ -147,9 +143,12 @@ impl Rows for Landings {
         let Ok(l) = self.plan.decode(payload) else {
             return;
         };
+        let Some(at) = self.span.axis_time(l.timestamp) else {
+            return;
+        };
         if self.landed.is_some_and(|was| was != l.landed) {
             self.marks.push(Mark {
-                t: sec(self.start_us, l.timestamp),
+                t: self.span.seconds(at),
                 kind: if l.landed { "landing" } else { "takeoff" },
                 text: if l.landed { "landed" } else { "takeoff" }.into(),
             });
@@ -165,13 +164,13 @@ pub struct TimelineRows {
 }
 
 /// The log's modes and marks, to be read from `vehicle_status` and
-/// `vehicle_land_detected`; times in seconds since `start_us`.
-pub fn timeline(log: &ULog<'_>, start_us: u64) -> TimelineRows {
+/// `vehicle_land_detected`; times in seconds since the start of `span`.
+pub fn timeline(log: &ULog<'_>, span: &TimeSpan) -> TimelineRows {
     TimelineRows {
         status: typed::<VehicleStatus>(log).map(|(sub, plan)| Status {
             sub,
             plan,
-            start_us,
+            span: span.clone(),
             modes: Vec::new(),
             marks: Vec::new(),
             armed_at: None,
@@ -180,7 +179,7 @@ pub fn timeline(log: &ULog<'_>, start_us: u64) -> TimelineRows {
         landings: typed::<VehicleLandDetected>(log).map(|(sub, plan)| Landings {
             sub,
             plan,
-            start_us,
+            span: span.clone(),
             landed: None,
             marks: Vec::new(),
         }),
@@ -198,13 +197,13 @@ impl TimelineRows {
         }
     }
 
-    /// The modes and marks of a log ending at `end_us`.
-    pub fn finish(self, end_us: u64) -> Timeline {
+    /// The modes and marks, the last mode lasting to the span's end.
+    pub fn finish(self) -> Timeline {
         let mut modes = Vec::new();
         let mut marks = Vec::new();
         let mut armed_s = 0.0;
         if let Some(mut s) = self.status {
-            let end = sec(s.start_us, end_us);
+            let end = s.span.seconds(s.span.end());
             armed_s = s.armed_s;
             if let Some(at) = s.armed_at {
                 armed_s += end - at;

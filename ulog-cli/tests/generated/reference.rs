@@ -3,911 +3,184 @@
 // Use it as a module (`#[rustfmt::skip] mod bindings;`) of a crate that depends
 // on `ulog-core`.
 
-/// The ULog message `battery_status`:
-///
-///```text
-/// battery_status:uint64_t timestamp;float voltage_v;float remaining;uint8_t cell_count;uint8_t[7] _padding0;
-///```
-#[derive(
-    ::core::fmt::Debug,
-    ::core::clone::Clone,
-    ::core::marker::Copy,
-    ::core::cmp::PartialEq
-)]
-#[allow(non_snake_case, non_camel_case_types)]
+use ::ulog_core::typed::__private as __p;
+/// The ULog message `battery_status`: `battery_status:uint64_t timestamp;float voltage_v;float remaining;uint8_t cell_count;uint8_t[7] _padding0;`
+#[derive(::core::fmt::Debug, ::core::clone::Clone)]
+#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
 pub struct BatteryStatus {
-    /// `timestamp`
     pub timestamp: u64,
-    /// `voltage_v`
     pub voltage_v: f32,
-    /// `remaining`
     pub remaining: f32,
-    /// `cell_count`
     pub cell_count: u8,
-    /// `_padding0`
     pub _padding0: [u8; 7usize],
 }
-#[automatically_derived]
-impl ::core::default::Default for BatteryStatus {
-    /// Every field zero.
-    fn default() -> Self {
-        <Self as ::ulog_core::ULogMessage>::zeroed()
+__p::binding_impls!(BatteryStatus);
+impl __p::Binding for BatteryStatus {
+    type Wire = [u8; 24];
+    const FORMAT: &'static str = "battery_status:uint64_t timestamp;float voltage_v;float remaining;uint8_t cell_count;uint8_t[7] _padding0;";
+    const SOURCES: usize = 4;
+    fn schema() -> &'static __p::Schema {
+        static SCHEMA: __p::SchemaCell = __p::SchemaCell::new();
+        SCHEMA.get::<Self>()
+    }
+    fn read(r: &mut __p::Reader<'_>) -> Self {
+        Self {
+            timestamp: r.get(),
+            voltage_v: r.get(),
+            remaining: r.get(),
+            cell_count: r.get(),
+            _padding0: r.pad(),
+        }
+    }
+    fn write(&self, w: &mut __p::Writer<'_>) {
+        w.put(&self.timestamp);
+        w.put(&self.voltage_v);
+        w.put(&self.remaining);
+        w.put(&self.cell_count);
     }
 }
-#[allow(non_snake_case, clippy::all)]
-const _: () = {
-    const __R0: usize = 0usize;
-    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R2: usize = __R1 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R3: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R4: usize = __R3 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
-    #[automatically_derived]
-    impl ::ulog_core::typed::WireField for BatteryStatus {
-        type Wire = [u8; 24usize];
-        const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::ULogMessage>::schema,
-        );
-        const IS_WIRE: bool = false;
-        const OPTIONAL: usize = 0usize;
-        type Writability = ::ulog_core::typed::Writable;
-        const SOURCES: usize = __R4 + 0usize;
-        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <u8 as ::ulog_core::typed::WireField>::DIRECT && true;
-        #[inline]
-        fn from_wire(
-            wire: &[u8; 24usize],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = present;
-            Self {
-                timestamp: ::ulog_core::typed::__private::read::<
-                    u64,
-                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
-                voltage_v: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
-                remaining: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
-                cell_count: ::ulog_core::typed::__private::read::<
-                    u8,
-                >(wire, 16usize, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-            }
-        }
-        #[inline]
-        fn from_payload(
-            payload: &[u8],
-            sources: &[u32],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = (payload, sources, present);
-            Self {
-                timestamp: ::ulog_core::typed::__private::read_source::<
-                    u64,
-                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
-                voltage_v: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
-                remaining: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
-                cell_count: ::ulog_core::typed::__private::read_source::<
-                    u8,
-                >(payload, sources, __R3, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-            }
-        }
-        #[inline]
-        fn to_wire(&self) -> [u8; 24usize] {
-            let mut wire = [0u8; 24usize];
-            ::ulog_core::typed::__private::write::<
-                u64,
-            >(&mut wire, 0usize, &self.timestamp);
-            ::ulog_core::typed::__private::write::<
-                f32,
-            >(&mut wire, 8usize, &self.voltage_v);
-            ::ulog_core::typed::__private::write::<
-                f32,
-            >(&mut wire, 12usize, &self.remaining);
-            ::ulog_core::typed::__private::write::<
-                u8,
-            >(&mut wire, 16usize, &self.cell_count);
-            wire
-        }
-        fn visit(
-            &self,
-            path: &mut ::std::string::String,
-            f: &mut dyn ::core::ops::FnMut(
-                &str,
-                ::ulog_core::typed::__private::Value<'_>,
-            ),
-        ) {
-            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
-        }
-    }
-    #[automatically_derived]
-    impl ::ulog_core::typed::ArrayElement for BatteryStatus {}
-    #[automatically_derived]
-    impl ::ulog_core::ULogMessage for BatteryStatus {
-        const NAME: &'static str = "battery_status";
-        fn schema() -> &'static ::ulog_core::typed::Schema {
-            static FIELDS: [::ulog_core::typed::FieldDef; 5usize] = [
-                ::ulog_core::typed::FieldDef::new(
-                    "timestamp",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt64,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "voltage_v",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "remaining",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "cell_count",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "_padding0",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::Some(7usize),
-                ),
-            ];
-            static SCHEMA: ::ulog_core::typed::__private::OnceLock<
-                ::ulog_core::typed::Schema,
-            > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA
-                .get_or_init(|| {
-                    ::ulog_core::typed::Schema::build("battery_status", &FIELDS)
-                        .with_rust_name("BatteryStatus", false)
-                })
-        }
-    }
-};
-/// The ULog message `esc_report`:
-///
-///```text
-/// esc_report:uint64_t timestamp;int32_t esc_rpm;float esc_voltage;
-///```
-#[derive(
-    ::core::fmt::Debug,
-    ::core::clone::Clone,
-    ::core::marker::Copy,
-    ::core::cmp::PartialEq
-)]
-#[allow(non_snake_case, non_camel_case_types)]
+/// The ULog message `esc_report`: `esc_report:uint64_t timestamp;int32_t esc_rpm;float esc_voltage;`
+#[derive(::core::fmt::Debug, ::core::clone::Clone)]
+#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
 pub struct EscReport {
-    /// `timestamp`
     pub timestamp: u64,
-    /// `esc_rpm`
     pub esc_rpm: i32,
-    /// `esc_voltage`
     pub esc_voltage: f32,
 }
-#[automatically_derived]
-impl ::core::default::Default for EscReport {
-    /// Every field zero.
-    fn default() -> Self {
-        <Self as ::ulog_core::ULogMessage>::zeroed()
+__p::binding_impls!(EscReport);
+impl __p::Binding for EscReport {
+    type Wire = [u8; 16];
+    const FORMAT: &'static str = "esc_report:uint64_t timestamp;int32_t esc_rpm;float esc_voltage;";
+    const SOURCES: usize = 3;
+    fn schema() -> &'static __p::Schema {
+        static SCHEMA: __p::SchemaCell = __p::SchemaCell::new();
+        SCHEMA.get::<Self>()
+    }
+    fn read(r: &mut __p::Reader<'_>) -> Self {
+        Self {
+            timestamp: r.get(),
+            esc_rpm: r.get(),
+            esc_voltage: r.get(),
+        }
+    }
+    fn write(&self, w: &mut __p::Writer<'_>) {
+        w.put(&self.timestamp);
+        w.put(&self.esc_rpm);
+        w.put(&self.esc_voltage);
     }
 }
-#[allow(non_snake_case, clippy::all)]
-const _: () = {
-    const __R0: usize = 0usize;
-    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R2: usize = __R1 + <i32 as ::ulog_core::typed::WireField>::SOURCES;
-    #[automatically_derived]
-    impl ::ulog_core::typed::WireField for EscReport {
-        type Wire = [u8; 16usize];
-        const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::ULogMessage>::schema,
-        );
-        const IS_WIRE: bool = false;
-        const OPTIONAL: usize = 0usize;
-        type Writability = ::ulog_core::typed::Writable;
-        const SOURCES: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
-            && <i32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT;
-        #[inline]
-        fn from_wire(
-            wire: &[u8; 16usize],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = present;
-            Self {
-                timestamp: ::ulog_core::typed::__private::read::<
-                    u64,
-                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
-                esc_rpm: ::ulog_core::typed::__private::read::<
-                    i32,
-                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
-                esc_voltage: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
-            }
-        }
-        #[inline]
-        fn from_payload(
-            payload: &[u8],
-            sources: &[u32],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = (payload, sources, present);
-            Self {
-                timestamp: ::ulog_core::typed::__private::read_source::<
-                    u64,
-                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
-                esc_rpm: ::ulog_core::typed::__private::read_source::<
-                    i32,
-                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
-                esc_voltage: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
-            }
-        }
-        #[inline]
-        fn to_wire(&self) -> [u8; 16usize] {
-            let mut wire = [0u8; 16usize];
-            ::ulog_core::typed::__private::write::<
-                u64,
-            >(&mut wire, 0usize, &self.timestamp);
-            ::ulog_core::typed::__private::write::<
-                i32,
-            >(&mut wire, 8usize, &self.esc_rpm);
-            ::ulog_core::typed::__private::write::<
-                f32,
-            >(&mut wire, 12usize, &self.esc_voltage);
-            wire
-        }
-        fn visit(
-            &self,
-            path: &mut ::std::string::String,
-            f: &mut dyn ::core::ops::FnMut(
-                &str,
-                ::ulog_core::typed::__private::Value<'_>,
-            ),
-        ) {
-            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
-        }
-    }
-    #[automatically_derived]
-    impl ::ulog_core::typed::ArrayElement for EscReport {}
-    #[automatically_derived]
-    impl ::ulog_core::ULogMessage for EscReport {
-        const NAME: &'static str = "esc_report";
-        fn schema() -> &'static ::ulog_core::typed::Schema {
-            static FIELDS: [::ulog_core::typed::FieldDef; 3usize] = [
-                ::ulog_core::typed::FieldDef::new(
-                    "timestamp",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt64,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "esc_rpm",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Int32,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "esc_voltage",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-            ];
-            static SCHEMA: ::ulog_core::typed::__private::OnceLock<
-                ::ulog_core::typed::Schema,
-            > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA
-                .get_or_init(|| {
-                    ::ulog_core::typed::Schema::build("esc_report", &FIELDS)
-                        .with_rust_name("EscReport", false)
-                })
-        }
-    }
-};
-/// The ULog message `esc_status`:
-///
-///```text
-/// esc_status:uint64_t timestamp;uint8_t esc_count;uint8_t[7] _padding0;esc_report[2] esc;
-///```
-#[derive(
-    ::core::fmt::Debug,
-    ::core::clone::Clone,
-    ::core::marker::Copy,
-    ::core::cmp::PartialEq
-)]
-#[allow(non_snake_case, non_camel_case_types)]
+/// The ULog message `esc_status`: `esc_status:uint64_t timestamp;uint8_t esc_count;uint8_t[7] _padding0;esc_report[2] esc;`
+#[derive(::core::fmt::Debug, ::core::clone::Clone)]
+#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
 pub struct EscStatus {
-    /// `timestamp`
     pub timestamp: u64,
-    /// `esc_count`
     pub esc_count: u8,
-    /// `_padding0`
     pub _padding0: [u8; 7usize],
-    /// `esc`
     pub esc: [EscReport; 2usize],
 }
-#[automatically_derived]
-impl ::core::default::Default for EscStatus {
-    /// Every field zero.
-    fn default() -> Self {
-        <Self as ::ulog_core::ULogMessage>::zeroed()
+__p::binding_impls!(EscStatus);
+impl __p::Binding for EscStatus {
+    type Wire = [u8; 48];
+    const FORMAT: &'static str = "esc_status:uint64_t timestamp;uint8_t esc_count;uint8_t[7] _padding0;esc_report[2] esc;";
+    const NESTED: &'static [fn() -> &'static __p::Schema] = &[
+        <EscReport as __p::Binding>::schema,
+    ];
+    const SOURCES: usize = 8;
+    fn schema() -> &'static __p::Schema {
+        static SCHEMA: __p::SchemaCell = __p::SchemaCell::new();
+        SCHEMA.get::<Self>()
+    }
+    fn read(r: &mut __p::Reader<'_>) -> Self {
+        Self {
+            timestamp: r.get(),
+            esc_count: r.get(),
+            _padding0: r.pad(),
+            esc: r.array(),
+        }
+    }
+    fn write(&self, w: &mut __p::Writer<'_>) {
+        w.put(&self.timestamp);
+        w.put(&self.esc_count);
+        w.skip(7usize);
+        w.array(&self.esc);
     }
 }
-#[allow(non_snake_case, clippy::all)]
-const _: () = {
-    const __R0: usize = 0usize;
-    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R2: usize = __R1 + <u8 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R3: usize = __R2 + 0usize;
-    #[automatically_derived]
-    impl ::ulog_core::typed::WireField for EscStatus {
-        type Wire = [u8; 48usize];
-        const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::ULogMessage>::schema,
-        );
-        const IS_WIRE: bool = false;
-        const OPTIONAL: usize = 0usize;
-        type Writability = ::ulog_core::typed::Writable;
-        const SOURCES: usize = __R3
-            + ::ulog_core::typed::__private::array_sources::<EscReport>(2usize);
-        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
-            && <u8 as ::ulog_core::typed::WireField>::DIRECT && true
-            && <EscReport as ::ulog_core::typed::WireField>::DIRECT;
-        #[inline]
-        fn from_wire(
-            wire: &[u8; 48usize],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = present;
-            Self {
-                timestamp: ::ulog_core::typed::__private::read::<
-                    u64,
-                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
-                esc_count: ::ulog_core::typed::__private::read::<
-                    u8,
-                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-                esc: ::ulog_core::typed::__private::read_array(
-                    wire,
-                    16usize,
-                    ::ulog_core::typed::Present::ALL,
-                ),
-            }
-        }
-        #[inline]
-        fn from_payload(
-            payload: &[u8],
-            sources: &[u32],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = (payload, sources, present);
-            Self {
-                timestamp: ::ulog_core::typed::__private::read_source::<
-                    u64,
-                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
-                esc_count: ::ulog_core::typed::__private::read_source::<
-                    u8,
-                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-                esc: ::ulog_core::typed::__private::read_array_source(
-                    payload,
-                    sources,
-                    __R3,
-                    ::ulog_core::typed::Present::ALL,
-                ),
-            }
-        }
-        #[inline]
-        fn to_wire(&self) -> [u8; 48usize] {
-            let mut wire = [0u8; 48usize];
-            ::ulog_core::typed::__private::write::<
-                u64,
-            >(&mut wire, 0usize, &self.timestamp);
-            ::ulog_core::typed::__private::write::<
-                u8,
-            >(&mut wire, 8usize, &self.esc_count);
-            ::ulog_core::typed::__private::write_array::<
-                EscReport,
-            >(&mut wire, 16usize, &self.esc);
-            wire
-        }
-        fn visit(
-            &self,
-            path: &mut ::std::string::String,
-            f: &mut dyn ::core::ops::FnMut(
-                &str,
-                ::ulog_core::typed::__private::Value<'_>,
-            ),
-        ) {
-            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
-        }
-    }
-    #[automatically_derived]
-    impl ::ulog_core::typed::ArrayElement for EscStatus {}
-    #[automatically_derived]
-    impl ::ulog_core::ULogMessage for EscStatus {
-        const NAME: &'static str = "esc_status";
-        fn schema() -> &'static ::ulog_core::typed::Schema {
-            static FIELDS: [::ulog_core::typed::FieldDef; 4usize] = [
-                ::ulog_core::typed::FieldDef::new(
-                    "timestamp",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt64,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "esc_count",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "_padding0",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::Some(7usize),
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "esc",
-                    &[],
-                    <EscReport as ::ulog_core::typed::WireField>::KIND,
-                    ::core::option::Option::Some(2usize),
-                ),
-            ];
-            static SCHEMA: ::ulog_core::typed::__private::OnceLock<
-                ::ulog_core::typed::Schema,
-            > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA
-                .get_or_init(|| {
-                    ::ulog_core::typed::Schema::build("esc_status", &FIELDS)
-                        .with_rust_name("EscStatus", false)
-                })
-        }
-    }
-};
-/// The ULog message `vehicle_attitude`:
-///
-///```text
-/// vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;
-///```
-#[derive(
-    ::core::fmt::Debug,
-    ::core::clone::Clone,
-    ::core::marker::Copy,
-    ::core::cmp::PartialEq
-)]
-#[allow(non_snake_case, non_camel_case_types)]
+/// The ULog message `vehicle_attitude`: `vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;`
+#[derive(::core::fmt::Debug, ::core::clone::Clone)]
+#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
 pub struct VehicleAttitude {
-    /// `timestamp`
     pub timestamp: u64,
-    /// `q`
     pub q: [f32; 4usize],
-    /// `_padding0`
     pub _padding0: [u8; 4usize],
 }
-#[automatically_derived]
-impl ::core::default::Default for VehicleAttitude {
-    /// Every field zero.
-    fn default() -> Self {
-        <Self as ::ulog_core::ULogMessage>::zeroed()
+__p::binding_impls!(VehicleAttitude);
+impl __p::Binding for VehicleAttitude {
+    type Wire = [u8; 28];
+    const FORMAT: &'static str = "vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;";
+    const SOURCES: usize = 2;
+    fn schema() -> &'static __p::Schema {
+        static SCHEMA: __p::SchemaCell = __p::SchemaCell::new();
+        SCHEMA.get::<Self>()
+    }
+    fn read(r: &mut __p::Reader<'_>) -> Self {
+        Self {
+            timestamp: r.get(),
+            q: r.array(),
+            _padding0: r.pad(),
+        }
+    }
+    fn write(&self, w: &mut __p::Writer<'_>) {
+        w.put(&self.timestamp);
+        w.array(&self.q);
     }
 }
-#[allow(non_snake_case, clippy::all)]
-const _: () = {
-    const __R0: usize = 0usize;
-    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R2: usize = __R1
-        + ::ulog_core::typed::__private::array_sources::<f32>(4usize);
-    #[automatically_derived]
-    impl ::ulog_core::typed::WireField for VehicleAttitude {
-        type Wire = [u8; 28usize];
-        const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::ULogMessage>::schema,
-        );
-        const IS_WIRE: bool = false;
-        const OPTIONAL: usize = 0usize;
-        type Writability = ::ulog_core::typed::Writable;
-        const SOURCES: usize = __R2 + 0usize;
-        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT && true;
-        #[inline]
-        fn from_wire(
-            wire: &[u8; 28usize],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = present;
-            Self {
-                timestamp: ::ulog_core::typed::__private::read::<
-                    u64,
-                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
-                q: ::ulog_core::typed::__private::read_array(
-                    wire,
-                    8usize,
-                    ::ulog_core::typed::Present::ALL,
-                ),
-                _padding0: [0u8; 4usize],
-            }
-        }
-        #[inline]
-        fn from_payload(
-            payload: &[u8],
-            sources: &[u32],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = (payload, sources, present);
-            Self {
-                timestamp: ::ulog_core::typed::__private::read_source::<
-                    u64,
-                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
-                q: ::ulog_core::typed::__private::read_array_source(
-                    payload,
-                    sources,
-                    __R1,
-                    ::ulog_core::typed::Present::ALL,
-                ),
-                _padding0: [0u8; 4usize],
-            }
-        }
-        #[inline]
-        fn to_wire(&self) -> [u8; 28usize] {
-            let mut wire = [0u8; 28usize];
-            ::ulog_core::typed::__private::write::<
-                u64,
-            >(&mut wire, 0usize, &self.timestamp);
-            ::ulog_core::typed::__private::write_array::<
-                f32,
-            >(&mut wire, 8usize, &self.q);
-            wire
-        }
-        fn visit(
-            &self,
-            path: &mut ::std::string::String,
-            f: &mut dyn ::core::ops::FnMut(
-                &str,
-                ::ulog_core::typed::__private::Value<'_>,
-            ),
-        ) {
-            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
-        }
-    }
-    #[automatically_derived]
-    impl ::ulog_core::typed::ArrayElement for VehicleAttitude {}
-    #[automatically_derived]
-    impl ::ulog_core::ULogMessage for VehicleAttitude {
-        const NAME: &'static str = "vehicle_attitude";
-        fn schema() -> &'static ::ulog_core::typed::Schema {
-            static FIELDS: [::ulog_core::typed::FieldDef; 3usize] = [
-                ::ulog_core::typed::FieldDef::new(
-                    "timestamp",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt64,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "q",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::Some(4usize),
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "_padding0",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::Some(4usize),
-                ),
-            ];
-            static SCHEMA: ::ulog_core::typed::__private::OnceLock<
-                ::ulog_core::typed::Schema,
-            > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA
-                .get_or_init(|| {
-                    ::ulog_core::typed::Schema::build("vehicle_attitude", &FIELDS)
-                        .with_rust_name("VehicleAttitude", false)
-                })
-        }
-    }
-};
-/// The ULog message `vehicle_local_position`:
-///
-///```text
-/// vehicle_local_position:uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;bool xy_valid;uint8_t[7] _padding0;
-///```
-#[derive(
-    ::core::fmt::Debug,
-    ::core::clone::Clone,
-    ::core::marker::Copy,
-    ::core::cmp::PartialEq
-)]
-#[allow(non_snake_case, non_camel_case_types)]
+/// The ULog message `vehicle_local_position`: `vehicle_local_position:uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;bool xy_valid;uint8_t[7] _padding0;`
+#[derive(::core::fmt::Debug, ::core::clone::Clone)]
+#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
 pub struct VehicleLocalPosition {
-    /// `timestamp`
     pub timestamp: u64,
-    /// `x`
     pub x: f32,
-    /// `y`
     pub y: f32,
-    /// `z`
     pub z: f32,
-    /// `vx`
     pub vx: f32,
-    /// `vy`
     pub vy: f32,
-    /// `vz`
     pub vz: f32,
-    /// `xy_valid`
     pub xy_valid: bool,
-    /// `_padding0`
     pub _padding0: [u8; 7usize],
 }
-#[automatically_derived]
-impl ::core::default::Default for VehicleLocalPosition {
-    /// Every field zero.
-    fn default() -> Self {
-        <Self as ::ulog_core::ULogMessage>::zeroed()
+__p::binding_impls!(VehicleLocalPosition);
+impl __p::Binding for VehicleLocalPosition {
+    type Wire = [u8; 40];
+    const FORMAT: &'static str = "vehicle_local_position:uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;bool xy_valid;uint8_t[7] _padding0;";
+    const SOURCES: usize = 8;
+    fn schema() -> &'static __p::Schema {
+        static SCHEMA: __p::SchemaCell = __p::SchemaCell::new();
+        SCHEMA.get::<Self>()
+    }
+    fn read(r: &mut __p::Reader<'_>) -> Self {
+        Self {
+            timestamp: r.get(),
+            x: r.get(),
+            y: r.get(),
+            z: r.get(),
+            vx: r.get(),
+            vy: r.get(),
+            vz: r.get(),
+            xy_valid: r.get(),
+            _padding0: r.pad(),
+        }
+    }
+    fn write(&self, w: &mut __p::Writer<'_>) {
+        w.put(&self.timestamp);
+        w.put(&self.x);
+        w.put(&self.y);
+        w.put(&self.z);
+        w.put(&self.vx);
+        w.put(&self.vy);
+        w.put(&self.vz);
+        w.put(&self.xy_valid);
     }
 }
-#[allow(non_snake_case, clippy::all)]
-const _: () = {
-    const __R0: usize = 0usize;
-    const __R1: usize = __R0 + <u64 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R2: usize = __R1 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R3: usize = __R2 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R4: usize = __R3 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R5: usize = __R4 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R6: usize = __R5 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R7: usize = __R6 + <f32 as ::ulog_core::typed::WireField>::SOURCES;
-    const __R8: usize = __R7 + <bool as ::ulog_core::typed::WireField>::SOURCES;
-    #[automatically_derived]
-    impl ::ulog_core::typed::WireField for VehicleLocalPosition {
-        type Wire = [u8; 40usize];
-        const KIND: ::ulog_core::typed::FieldKind = ::ulog_core::typed::FieldKind::Nested(
-            <Self as ::ulog_core::ULogMessage>::schema,
-        );
-        const IS_WIRE: bool = false;
-        const OPTIONAL: usize = 0usize;
-        type Writability = ::ulog_core::typed::Writable;
-        const SOURCES: usize = __R8 + 0usize;
-        const DIRECT: bool = true && <u64 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <f32 as ::ulog_core::typed::WireField>::DIRECT
-            && <bool as ::ulog_core::typed::WireField>::DIRECT && true;
-        #[inline]
-        fn from_wire(
-            wire: &[u8; 40usize],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = present;
-            Self {
-                timestamp: ::ulog_core::typed::__private::read::<
-                    u64,
-                >(wire, 0usize, ::ulog_core::typed::Present::ALL),
-                x: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 8usize, ::ulog_core::typed::Present::ALL),
-                y: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 12usize, ::ulog_core::typed::Present::ALL),
-                z: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 16usize, ::ulog_core::typed::Present::ALL),
-                vx: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 20usize, ::ulog_core::typed::Present::ALL),
-                vy: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 24usize, ::ulog_core::typed::Present::ALL),
-                vz: ::ulog_core::typed::__private::read::<
-                    f32,
-                >(wire, 28usize, ::ulog_core::typed::Present::ALL),
-                xy_valid: ::ulog_core::typed::__private::read::<
-                    bool,
-                >(wire, 32usize, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-            }
-        }
-        #[inline]
-        fn from_payload(
-            payload: &[u8],
-            sources: &[u32],
-            present: ::ulog_core::typed::Present<'_>,
-        ) -> Self {
-            let _ = (payload, sources, present);
-            Self {
-                timestamp: ::ulog_core::typed::__private::read_source::<
-                    u64,
-                >(payload, sources, __R0, ::ulog_core::typed::Present::ALL),
-                x: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R1, ::ulog_core::typed::Present::ALL),
-                y: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R2, ::ulog_core::typed::Present::ALL),
-                z: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R3, ::ulog_core::typed::Present::ALL),
-                vx: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R4, ::ulog_core::typed::Present::ALL),
-                vy: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R5, ::ulog_core::typed::Present::ALL),
-                vz: ::ulog_core::typed::__private::read_source::<
-                    f32,
-                >(payload, sources, __R6, ::ulog_core::typed::Present::ALL),
-                xy_valid: ::ulog_core::typed::__private::read_source::<
-                    bool,
-                >(payload, sources, __R7, ::ulog_core::typed::Present::ALL),
-                _padding0: [0u8; 7usize],
-            }
-        }
-        #[inline]
-        fn to_wire(&self) -> [u8; 40usize] {
-            let mut wire = [0u8; 40usize];
-            ::ulog_core::typed::__private::write::<
-                u64,
-            >(&mut wire, 0usize, &self.timestamp);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 8usize, &self.x);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 12usize, &self.y);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 16usize, &self.z);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 20usize, &self.vx);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 24usize, &self.vy);
-            ::ulog_core::typed::__private::write::<f32>(&mut wire, 28usize, &self.vz);
-            ::ulog_core::typed::__private::write::<
-                bool,
-            >(&mut wire, 32usize, &self.xy_valid);
-            wire
-        }
-        fn visit(
-            &self,
-            path: &mut ::std::string::String,
-            f: &mut dyn ::core::ops::FnMut(
-                &str,
-                ::ulog_core::typed::__private::Value<'_>,
-            ),
-        ) {
-            <Self as ::ulog_core::ULogMessage>::visit_fields_at(self, path, f)
-        }
-    }
-    #[automatically_derived]
-    impl ::ulog_core::typed::ArrayElement for VehicleLocalPosition {}
-    #[automatically_derived]
-    impl ::ulog_core::ULogMessage for VehicleLocalPosition {
-        const NAME: &'static str = "vehicle_local_position";
-        fn schema() -> &'static ::ulog_core::typed::Schema {
-            static FIELDS: [::ulog_core::typed::FieldDef; 9usize] = [
-                ::ulog_core::typed::FieldDef::new(
-                    "timestamp",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt64,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "x",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "y",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "z",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "vx",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "vy",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "vz",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Float,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "xy_valid",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::Bool,
-                    ),
-                    ::core::option::Option::None,
-                ),
-                ::ulog_core::typed::FieldDef::new(
-                    "_padding0",
-                    &[],
-                    ::ulog_core::typed::FieldKind::Basic(
-                        ::ulog_core::typed::__private::BasicType::UInt8,
-                    ),
-                    ::core::option::Option::Some(7usize),
-                ),
-            ];
-            static SCHEMA: ::ulog_core::typed::__private::OnceLock<
-                ::ulog_core::typed::Schema,
-            > = ::ulog_core::typed::__private::OnceLock::new();
-            SCHEMA
-                .get_or_init(|| {
-                    ::ulog_core::typed::Schema::build("vehicle_local_position", &FIELDS)
-                        .with_rust_name("VehicleLocalPosition", false)
-                })
-        }
-    }
-};
 /// Calls `visitor` with each binding of the module, in the log's order.
 pub fn visit_bindings<V: ::ulog_core::typed::BindingVisitor + ?::core::marker::Sized>(
     visitor: &mut V,

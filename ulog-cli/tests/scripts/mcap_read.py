@@ -94,11 +94,16 @@ def main():
                     "hash": hashlib.sha256(),
                 }
             entry["last_log_time"] = message.log_time
-            values = [str(message.log_time)]
+            values = [str(message.log_time), str(message.publish_time)]
             flatten(decoded, values)
             entry["count"] += 1
             entry["hash"].update((" ".join(values) + "\n").encode())
         metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+        stats = reader.get_summary().statistics
+        statistics = {
+            "message_start_time": stats.message_start_time,
+            "message_end_time": stats.message_end_time,
+        }
     # The file read once more from start to end as a stream, every record in turn
     # (no index used), CRCs checked: the messages are all there.
     with open(sys.argv[1], "rb") as f:
@@ -108,7 +113,13 @@ def main():
     for topic, entry in channels.items():
         entry["validated"] = validated.get(topic, 0)
     json.dump(
-        {"profile": profile, "channels": channels, "metadata": metadata, "streamed": streamed},
+        {
+            "profile": profile,
+            "channels": channels,
+            "metadata": metadata,
+            "statistics": statistics,
+            "streamed": streamed,
+        },
         sys.stdout,
     )
 

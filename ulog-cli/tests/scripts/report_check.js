@@ -1,7 +1,8 @@
 // Opens a `ulog report` page in headless Chromium (playwright-core with the system's
 // browser) and prints, as one JSON object, what the Rust test (tests/report.rs) checks:
 // console errors and requests, each plot's drawn line pixels, the ranges after a zoom,
-// the legend's values where the mouse hovers, the messages table's rows.
+// the legend's values where the mouse hovers, the messages table's rows, the title and
+// the text of every table cell (tests/text_in_documents.rs).
 //
 //   node report_check.js REPORT.html HOVER_PLOT [SCREENSHOT.png]
 "use strict";
@@ -117,8 +118,40 @@ async function main() {
       }, hoverPlot);
     }
 
+    // The information tables as a reader sees them: each row's visible text (a folded
+    // text shows its summary only), its folds, and the bytes its download link gives.
+    out.information = await page.evaluate(async () => {
+      const rows = document.querySelectorAll("#info tbody tr, #multi-info tbody tr");
+      const res = [];
+      for (const tr of rows) {
+        const [key, value] = tr.querySelectorAll("td");
+        const link = value.querySelector("a[download]");
+        let bytes = null;
+        if (link) {
+          const buf = await (await fetch(link.href)).arrayBuffer();
+          bytes = Array.from(new Uint8Array(buf));
+        }
+        res.push({
+          key: key.textContent,
+          visible: value.innerText,
+          folds: Array.from(value.querySelectorAll("details")).map((d) => ({
+            open: d.open,
+            summary: d.querySelector("summary").innerText,
+            text: d.querySelector("pre").textContent,
+          })),
+          download: link ? link.download : null,
+          bytes,
+        });
+      }
+      return res;
+    });
+
     out.messages = await page.evaluate(() =>
       document.querySelectorAll("#messages tbody tr").length);
+    // The page's title and every table cell's text, as the browser read them.
+    out.title = await page.title();
+    out.cells = await page.evaluate(() =>
+      Array.from(document.querySelectorAll("td")).map((td) => td.textContent));
     // The level filter: ERROR and above.
     await page.selectOption("#level-filter", "3");
     out.messagesShownAtError = await page.evaluate(() =>
@@ -132,6 +165,9 @@ async function main() {
       await page.waitForTimeout(300);
       await page.screenshot({ path: screenshot });
     }
+    // `data:` URLs hold their bytes (the download links fetched above): no request
+    // leaves the page.
+    out.requests = out.requests.filter((u) => !u.startsWith("data:"));
   } finally {
     await browser.close();
     fs.rmSync(profile, { recursive: true, force: true });

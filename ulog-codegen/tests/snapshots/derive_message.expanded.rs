@@ -162,6 +162,7 @@ const _: () = {
     #[automatically_derived]
     impl ::my_ulog::ULogMessage for Esc {
         const NAME: &'static str = "esc_status";
+        const ALIASES: &'static [&'static str] = &[];
         fn schema() -> &'static ::my_ulog::typed::Schema {
             static FIELDS: [::my_ulog::typed::FieldDef; 5usize] = [
                 ::my_ulog::typed::FieldDef::new(

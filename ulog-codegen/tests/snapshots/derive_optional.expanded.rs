@@ -292,6 +292,7 @@ const _: () = {
     #[automatically_derived]
     impl ::ulog_core::ULogMessage for GpsFix {
         const NAME: &'static str = "gps_fix";
+        const ALIASES: &'static [&'static str] = &[];
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 6usize] = [
                 ::ulog_core::typed::FieldDef::new(

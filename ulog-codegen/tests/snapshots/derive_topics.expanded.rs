@@ -5,6 +5,10 @@ const _: () = {
             <VehicleAttitude as ::ulog_core::ULogMessage>::NAME,
             <EscStatus as ::ulog_core::ULogMessage>::NAME,
         ];
+        const ALIASES: &'static [&'static [&'static str]] = &[
+            <VehicleAttitude as ::ulog_core::ULogMessage>::ALIASES,
+            <EscStatus as ::ulog_core::ULogMessage>::ALIASES,
+        ];
         fn plan(
             variant: usize,
             layout: &::ulog_core::typed::__private::Layout,

@@ -138,6 +138,7 @@ const _: () = {
     #[automatically_derived]
     impl ::ulog_core::ULogMessage for Attitude {
         const NAME: &'static str = "vehicle_attitude";
+        const ALIASES: &'static [&'static str] = &[];
         fn schema() -> &'static ::ulog_core::typed::Schema {
             static FIELDS: [::ulog_core::typed::FieldDef; 3usize] = [
                 ::ulog_core::typed::FieldDef::new(

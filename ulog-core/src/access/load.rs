@@ -17,9 +17,11 @@ use crate::definitions::Subscription;
 use crate::error::{ReadError, ReadErrorKind};
 use crate::estimate::rows_at_end;
 use crate::log::ulog::ULog;
-use crate::pass::driver::{DataRecord, Hand, ScanSummary};
+use crate::parallel::Shares;
+use crate::pass::keep::ScanSummary;
 use crate::pass::scan::ScanOptions;
 use crate::pass::source::{drive, Inner, Source};
+use crate::pass::visit::{DataRecord, Hand};
 
 /// The columns of one topic instance.
 #[derive(Debug, Clone, PartialEq)]
@@ -223,56 +225,6 @@ fn again<'s>(source: &Source<'s>) -> Source<'s> {
             observer: None,
         },
         Inner::Reader(_) => unreachable!("a reader is read once"),
-    }
-}
-
-/// Which thread fills which subscription's columns. Every thread keeps its own copy
-/// and, seeing the same subscriptions in the same order, takes the same decisions.
-#[derive(Clone)]
-struct Shares {
-    owner: Vec<Option<usize>>,
-    load: Vec<u64>,
-    /// The weight given to a subscription first met after the sample.
-    typical: u64,
-}
-
-impl Shares {
-    /// Shares balanced by the work of each subscription in the sample, largest
-    /// first, each to the least loaded share.
-    fn new(work: &[u64], threads: usize) -> Shares {
-        let mut shares = Shares {
-            owner: vec![None; work.len()],
-            load: vec![0; threads],
-            typical: 0,
-        };
-        let mut order: Vec<usize> = (0..work.len()).collect();
-        order.sort_by_key(|&i| (core::cmp::Reverse(work[i]), i));
-        for i in order {
-            shares.assign(i, work[i]);
-        }
-        let total: u64 = work.iter().sum();
-        shares.typical = total / work.len().max(1) as u64;
-        shares
-    }
-
-    fn assign(&mut self, sub: usize, weight: u64) -> usize {
-        let least = (0..self.load.len())
-            .min_by_key(|&k| (self.load[k], k))
-            .expect("at least one share");
-        self.load[least] += weight;
-        if sub >= self.owner.len() {
-            self.owner.resize(sub + 1, None);
-        }
-        self.owner[sub] = Some(least);
-        least
-    }
-
-    #[inline]
-    fn owner(&mut self, sub: usize) -> usize {
-        match self.owner.get(sub) {
-            Some(&Some(k)) => k,
-            _ => self.assign(sub, self.typical),
-        }
     }
 }
 

@@ -21,6 +21,9 @@ pub struct TopicNotFound {
     /// The log's topic names closest to `name`, closest first (when the name is not in
     /// the log and some are close).
     pub closest: Vec<String>,
+    /// The other names looked for, none of which the log has either (a binding's
+    /// [aliases](crate::ULogMessage::ALIASES)).
+    pub aliases: Vec<String>,
 }
 
 impl TopicNotFound {
@@ -44,6 +47,7 @@ impl TopicNotFound {
             multi_id,
             instances,
             closest,
+            aliases: Vec::new(),
         }
     }
 }
@@ -56,6 +60,7 @@ impl TopicNotFound {
             multi_id: None,
             instances: Vec::new(),
             closest: crate::suggest::closest_n(name, names, 3),
+            aliases: Vec::new(),
         }
     }
 }
@@ -72,7 +77,11 @@ impl fmt::Display for TopicNotFound {
                 have.join(", ")
             );
         }
-        write!(f, "no topic `{}` in the log", self.name)?;
+        write!(f, "no topic `{}`", self.name)?;
+        for alias in &self.aliases {
+            write!(f, " or `{alias}`")?;
+        }
+        write!(f, " in the log")?;
         match self.closest.as_slice() {
             [] => Ok(()),
             [one] => write!(f, " (did you mean `{one}`?)"),
@@ -83,6 +92,9 @@ impl fmt::Display for TopicNotFound {
         }
     }
 }
+
+/// The fields of a topic a field error lists at most (a message stays one line).
+const FIELDS_LISTED: usize = 12;
 
 /// A topic or field that is not in the log, or a topic whose format cannot be laid
 /// out. Matchable; new kinds may be added.
@@ -100,6 +112,9 @@ pub enum LookupError {
         path: String,
         /// The closest field path of the topic, if any is close.
         closest: Option<String>,
+        /// When none is close: the topic's own fields (padding left out, arrays as
+        /// `q[4]`, nested types by their field's name), for the message to list.
+        fields: Vec<String>,
     },
     /// The topic's format could not be laid out (an unknown nested type, a cycle, a
     /// limit), so its data cannot be decoded.
@@ -143,11 +158,24 @@ impl fmt::Display for LookupError {
                 topic,
                 path,
                 closest,
+                fields,
             } => {
                 write!(f, "topic `{topic}` has no field `{path}`")?;
-                match closest {
-                    Some(c) => write!(f, " (did you mean `{c}`?)"),
-                    None => Ok(()),
+                match (closest, fields.as_slice()) {
+                    (Some(c), _) => write!(f, " (did you mean `{c}`?)"),
+                    (None, []) => Ok(()),
+                    (None, all) => {
+                        let shown: Vec<String> = all
+                            .iter()
+                            .take(FIELDS_LISTED)
+                            .map(|n| format!("`{n}`"))
+                            .collect();
+                        write!(f, " (its fields: {}", shown.join(", "))?;
+                        match all.len().checked_sub(FIELDS_LISTED) {
+                            Some(more) if more > 0 => write!(f, " and {more} more)"),
+                            _ => write!(f, ")"),
+                        }
+                    }
                 }
             }
             LookupError::Layout {

@@ -107,10 +107,27 @@ impl<'l, 'a> Topic<'l, 'a> {
     /// it from every payload.
     pub fn field(&self, path: &str) -> Result<FieldReader, LookupError> {
         let layout = self.layout()?;
-        let not_found = || LookupError::Field {
-            topic: self.name().to_owned(),
-            path: path.to_owned(),
-            closest: crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str())),
+        let not_found = || {
+            let closest = crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str()));
+            // Nothing close (`roll` of a topic that holds a quaternion): what it has.
+            let fields = match closest {
+                Some(_) => Vec::new(),
+                None => layout
+                    .fields()
+                    .iter()
+                    .filter(|f| !f.is_padding())
+                    .map(|f| match f.array_len {
+                        Some(n) => format!("{}[{n}]", f.name),
+                        None => f.name.clone(),
+                    })
+                    .collect(),
+            };
+            LookupError::Field {
+                topic: self.name().to_owned(),
+                path: path.to_owned(),
+                closest,
+                fields,
+            }
         };
         let f = layout.find(path).ok_or_else(not_found)?;
         let ty = match f.ty {

@@ -71,6 +71,11 @@ impl Unwrapper {
         }
     }
 
+    /// The timestamp field it reads (`None`: the series has none).
+    pub fn field(&self) -> Option<TimestampField> {
+        self.field
+    }
+
     /// The unwrapped microseconds of the next payload of the series.
     #[inline]
     pub fn push(&mut self, payload: &[u8]) -> Option<u64> {

@@ -62,6 +62,28 @@ enum Node {
 }
 
 impl Node {
+    /// The reader of the one column `reader` reads: a `char[N]` as text, a value, a
+    /// whole array as a fixed-size list.
+    fn of_reader(reader: &FieldReader) -> Node {
+        let offset = reader.offset();
+        match reader.shape() {
+            FieldShape::String(len) => Node::Text { offset, len },
+            FieldShape::Scalar => Node::Value {
+                ty: reader.ty(),
+                offset,
+            },
+            FieldShape::Array(len) => Node::List {
+                offset,
+                len,
+                stride: reader.ty().size(),
+                item: Box::new(Node::Value {
+                    ty: reader.ty(),
+                    offset: 0,
+                }),
+            },
+        }
+    }
+
     /// The Arrow type of the column.
     fn data_type(&self) -> DataType {
         match self {
@@ -241,21 +263,10 @@ impl TopicTable {
             let mut fields = Vec::with_capacity(readers.len());
             let mut nodes = Vec::with_capacity(readers.len());
             for r in readers {
-                let (node, ty) = match r.shape() {
-                    FieldShape::String(len) => (
-                        Node::Text {
-                            offset: r.offset(),
-                            len,
-                        },
-                        format!("char[{len}]"),
-                    ),
-                    _ => (
-                        Node::Value {
-                            ty: r.ty(),
-                            offset: r.offset(),
-                        },
-                        r.ty().name().to_owned(),
-                    ),
+                let node = Node::of_reader(&r);
+                let ty = match r.shape() {
+                    FieldShape::String(len) => format!("char[{len}]"),
+                    _ => r.ty().name().to_owned(),
                 };
                 fields.push(
                     Field::new(r.path(), node.data_type(), false)
@@ -366,6 +377,41 @@ impl TopicTable {
         )
         .map_err(ExportError::encoding)
     }
+}
+
+/// The Arrow type of the column `reader` reads, as a flattened table types it.
+pub(crate) fn field_data_type(reader: &FieldReader) -> DataType {
+    Node::of_reader(reader).data_type()
+}
+
+/// The values `reader` reads in `rows`, of [`field_data_type`]: null where a row is
+/// `None` or too short for the field.
+pub(crate) fn field_array(reader: &FieldReader, rows: &[Option<&[u8]>]) -> Result<ArrayRef> {
+    let node = Node::of_reader(reader);
+    let end = node.end();
+    // An absent row reads as zeros (a value, an empty text), then is masked: one pass
+    // over the rows builds the column as the export builds its own.
+    let zeros = vec![0u8; end];
+    let mut absent = Vec::with_capacity(rows.len());
+    let bases: Vec<(&[u8], usize)> = rows
+        .iter()
+        .map(|row| match row {
+            Some(p) if p.len() >= end => {
+                absent.push(false);
+                (*p, 0)
+            }
+            _ => {
+                absent.push(true);
+                (&zeros[..], 0)
+            }
+        })
+        .collect();
+    let values = build(&node, &node.data_type(), &bases[..])?;
+    if !absent.contains(&true) {
+        return Ok(values);
+    }
+    arrow_select::nullif::nullif(&values, &BooleanArray::from(absent))
+        .map_err(ExportError::encoding)
 }
 
 /// Where the values of a node are: payloads, and the offset of the enclosing value

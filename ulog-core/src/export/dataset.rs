@@ -21,6 +21,7 @@ use sha2::{Digest, Sha256};
 
 use super::error::{ExportError, ExportErrorKind};
 use super::files::{compression_of, write_error};
+use super::lock::{partial_name, DatasetLock};
 use super::metadata::Facts;
 use super::stream::{export, Layout};
 use super::{Export, Options};
@@ -60,8 +61,9 @@ const LOG_ID_RULE: &str = "xxh3-64";
 ///   with columns `log_id` and `multi_id` before the fields ([`Options::log_id`]), so
 ///   that `SELECT … FROM 'DATASET/vehicle_status/*.parquet'` spans every log;
 /// - [`LOGS_FILE`]: one row per log: `log_id`, `path` (as given), `size`, `sha256`,
-///   `start_timestamp` (µs since boot), `start_utc` and `utc_source` (where the log
-///   says it, by [`ULog::utc`]'s rule), `duration_s`, `sys_name`, `ver_hw`, `ver_sw`,
+///   `start_timestamp` (µs since boot) and `duration_s` (the log's
+///   [span](crate::ULog::span)), `start_utc` and `utc_source` (where the log
+///   says it, by [`ULog::utc`]'s rule), `sys_name`, `ver_hw`, `ver_sw`,
 ///   `ver_sw_release`, `sys_uuid`, `vehicle_type` (from parameter `MAV_TYPE`),
 ///   `airframe` (`SYS_AUTOSTART`), `topics` (topic instances with data), `messages`
 ///   (data messages), and the damage: `truncated`, `damaged`, `corrupt_bytes` (bytes
@@ -85,6 +87,14 @@ const LOG_ID_RULE: &str = "xxh3-64";
 /// already there is skipped whatever the options are now ([`Options::topics`],
 /// [`Options::utc`]); the tables record [`Options::flatten`] and how log ids are made,
 /// and a dataset refuses to open with the other flattening or another rule.
+///
+/// One conversion writes a dataset at a time: [`Dataset::open`] takes its lock (the
+/// file [`LOCK_FILE`](super::LOCK_FILE) in the folder) and the `Dataset` holds it
+/// until [`Dataset::finish`] or until it is dropped; another process (or another
+/// `Dataset` of the same folder) gets [`ExportErrorKind::Busy`] meanwhile, and can
+/// open it once the first is done. Every file is written under a temporary name of
+/// its writer's own (`….<pid>-<n>.partial`) and renamed when done; the temporary files
+/// of a conversion that died are removed by the next `open`.
 ///
 /// ```
 /// use ulog_core::export::{Added, Dataset, Options};
@@ -111,6 +121,8 @@ pub struct Dataset {
     dir: PathBuf,
     options: Options,
     state: Mutex<State>,
+    /// Held from `open` until the dataset is finished or dropped.
+    _lock: DatasetLock,
 }
 
 #[derive(Debug, Default)]
@@ -141,15 +153,18 @@ pub enum Added {
 }
 
 impl Dataset {
-    /// The dataset in `dir` (made if missing), with the tables it has read back.
-    /// `options` are those of every log's files ([`Options::log_id`] is set for
-    /// each).
+    /// The dataset in `dir` (made if missing), locked for this conversion, with the
+    /// tables it has read back. `options` are those of every log's files
+    /// ([`Options::log_id`] is set for each).
     ///
-    /// An error when a table cannot be read, or has other columns than this version
-    /// writes.
+    /// An error when another conversion holds the dataset ([`ExportErrorKind::Busy`]:
+    /// open it again once that one is done), when a table cannot be read, or has
+    /// other columns than this version writes.
     pub fn open(dir: impl AsRef<Path>, options: &Options) -> Result<Dataset> {
         let dir = dir.as_ref().to_owned();
         std::fs::create_dir_all(&dir).map_err(|e| ExportError::io(e, &dir))?;
+        let lock = DatasetLock::take(&dir)?;
+        lock.clear_leftovers(&dir);
         let mut state = State::default();
         for (i, (name, schema)) in tables().into_iter().enumerate() {
             let path = dir.join(name);
@@ -162,6 +177,7 @@ impl Dataset {
             dir,
             options: options.clone(),
             state: Mutex::new(state),
+            _lock: lock,
         })
     }
 
@@ -228,11 +244,14 @@ impl Dataset {
             size,
             read,
         };
+        let tables = |log: &ULog<'_>, facts: &Facts<'_>, utc: Option<UtcClock>| {
+            LogTables::new(log, facts, &origin, utc)
+        };
         let exported = export(
             source,
             &self.dir,
             &options,
-            Layout::Dataset(&origin),
+            Layout::Dataset(&tables),
             progress,
         );
         match exported {
@@ -287,7 +306,7 @@ impl Dataset {
 
 /// The file a log is read from, as [`LOGS_FILE`] describes it.
 #[derive(Debug)]
-pub(super) struct Origin {
+struct Origin {
     log_id: String,
     path: String,
     size: u64,
@@ -327,7 +346,7 @@ impl Origin {
 
 /// A log's rows of the four tables, in the order of [`tables`].
 #[derive(Debug)]
-pub(super) struct LogTables([RecordBatch; 4]);
+struct LogTables([RecordBatch; 4]);
 
 /// A `log_id` as written: the XXH3-64 of the bytes hashed, 16 hex digits.
 fn id_text(hash: &xxhash_rust::xxh3::Xxh3) -> String {
@@ -430,7 +449,7 @@ fn info_text(log: &ULog<'_>, key: &str) -> Option<String> {
 impl LogTables {
     /// The rows of a log read without its data (`log`, with what the pass learnt in
     /// `facts`); `utc` its clock.
-    pub(super) fn new(
+    fn new(
         log: &ULog<'_>,
         facts: &Facts<'_>,
         origin: &Origin,
@@ -447,8 +466,10 @@ impl LogTables {
             RecordBatch::try_new(schema, columns).map_err(ExportError::encoding)
         };
 
-        // logs
-        let start = log.start_timestamp();
+        // logs: times by the log's span (`ULog::span`), which a stale or stray
+        // timestamp does not stretch.
+        let span = log.span();
+        let start = span.start();
         let text = |v: Option<String>| -> ArrayRef { Arc::new(StringArray::from(vec![v])) };
         let mut start_utc = TimestampMicrosecondBuilder::new().with_timezone("UTC");
         start_utc.append_option(utc.as_ref().map(|c| c.at(start).micros()));
@@ -470,10 +491,7 @@ impl LogTables {
                 Arc::new(UInt64Builder::new().append_value_then(start)),
                 Arc::new(start_utc.finish()),
                 text(utc.as_ref().map(|c| c.source().to_string())),
-                Arc::new(
-                    Float64Builder::new()
-                        .append_value_then(facts.last_timestamp.saturating_sub(start) as f64 / 1e6),
-                ),
+                Arc::new(Float64Builder::new().append_value_then(span.duration_s())),
                 text(info_text(log, "sys_name")),
                 text(info_text(log, "ver_hw")),
                 text(info_text(log, "ver_sw")),
@@ -756,7 +774,11 @@ fn write_table(
     // not depend on it, and the file is the same byte for byte.
     let all = arrow_select::concat::concat_batches(schema, rows.values().flatten())
         .map_err(ExportError::encoding)?;
-    let partial = path.with_extension("parquet.partial");
+    let partial = path.with_file_name(partial_name(
+        &path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+    ));
     let result = (|| {
         let file = File::create(&partial).map_err(|e| ExportError::io(e, path))?;
         let flatten = ParquetKeyValue::new(FLATTEN_KEY.to_owned(), options.flatten.to_string());

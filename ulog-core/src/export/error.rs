@@ -43,6 +43,16 @@ pub enum ExportErrorKind {
         /// What is wrong with it.
         what: String,
     },
+    /// Another conversion is writing the [`Dataset`](super::Dataset): one writes a
+    /// dataset at a time (see [`LOCK_FILE`](super::LOCK_FILE)). Try again when it has
+    /// ended.
+    Busy {
+        /// Who holds the lock, as its file says (`process 1234 on hostname`).
+        owner: String,
+        /// The lock file: to remove by hand only when no conversion runs (one that was
+        /// killed on another machine, or on a system where a dead owner cannot be told).
+        lock: PathBuf,
+    },
 }
 
 /// An export that failed: what, the file it was writing when there is one, and where
@@ -167,6 +177,12 @@ impl fmt::Display for ExportError {
             (ExportErrorKind::Dataset { what }, _) => {
                 write!(f, "{what}")
             }
+            (ExportErrorKind::Busy { owner, lock }, _) => write!(
+                f,
+                "the dataset is being written by another conversion ({owner}); run again \
+                 when it has ended (if none runs, remove {})",
+                lock.display()
+            ),
             (ExportErrorKind::NoValues { topic }, _) => {
                 write!(f, "topic `{topic}` has no field with values")
             }

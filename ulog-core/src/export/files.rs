@@ -12,12 +12,10 @@ use parquet::file::metadata::KeyValue;
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 
 use super::error::{ExportError, ExportErrorKind};
-use super::stream::Layout;
 use crate::access::topic::Topic;
 
 type Result<T, E = ExportError> = core::result::Result<T, E>;
 use crate::access::lookup::LookupError;
-use crate::pass::source::Source;
 
 use super::arrow::TopicTable;
 use super::leaves::LeafWriter;
@@ -48,7 +46,7 @@ pub struct Skipped {
     pub error: ExportError,
 }
 
-/// What [`write_parquet`] wrote.
+/// What [`write_parquet`](super::write_parquet) wrote.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Export {
     /// The Parquet files, sorted by topic name and instance.
@@ -61,58 +59,6 @@ pub struct Export {
     /// The metadata file (of a [`Dataset`](super::Dataset): its table of logs,
     /// written by [`Dataset::finish`](super::Dataset::finish)).
     pub metadata: PathBuf,
-}
-
-/// Writes a log to `dir` (created when missing): every selected topic instance with
-/// data to its own Parquet file, named by [`super::file_name`], and the metadata file
-/// [`METADATA_FILE`](super::METADATA_FILE). Files of those names already there are replaced; other files in
-/// `dir` are left as they are.
-///
-/// The log is read once, in file order, from any [`Source`]: a file or reader
-/// ([`Source::file`], [`Source::reader`]) is read in chunks and never held whole;
-/// each topic's rows are held until a row group of them is full (16 MiB of payload or
-/// [`Options::row_group_rows`]), or until the rows held by all topics pass
-/// [`Options::buffer_bytes`], when the topic holding the most is written out. Row
-/// groups are encoded on [`Options::threads`] threads while the log is read, each
-/// topic's in the order they were cut: the files are the same whatever the source
-/// and the number of threads.
-///
-/// A topic whose format cannot be laid out, or that has no field with values, is left
-/// out and listed in [`Export::skipped`]. Errors: a log that cannot be read, a topic
-/// of [`Options::topics`] that is not in the log (unless
-/// [`Options::skip_missing_topics`]), and failures to write. Files are written under
-/// temporary names and renamed when the whole log is done: after an error, no file of
-/// this export is left in `dir` (a file of the same name that a rename had already
-/// replaced is gone too), and the folders it made are removed when empty.
-///
-/// ```
-/// use ulog_core::export::{self, Options};
-/// let bytes = ulog_core::testing::sample_log();
-/// let dir = std::env::temp_dir().join(format!("ulog-doc-{}", std::process::id()));
-/// let written = export::write_parquet(&bytes, &dir, &Options::default())?;
-/// assert!(written.files.iter().any(|f| f.path.ends_with("battery_status_1.parquet")));
-/// assert!(written.metadata.ends_with("metadata.json"));
-/// # std::fs::remove_dir_all(&dir).unwrap();
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub fn write_parquet<'s>(
-    source: impl Into<Source<'s>>,
-    dir: &Path,
-    options: &Options,
-) -> Result<Export> {
-    super::stream::export(source.into(), dir, options, Layout::Log, |_| {}).map(|(e, _)| e)
-}
-
-/// [`write_parquet`], calling `progress` with the byte offset in the log that the pass
-/// has reached, every 8 MiB or so (to show progress; the bytes after the last call are
-/// read too, without one).
-pub fn write_parquet_with<'s>(
-    source: impl Into<Source<'s>>,
-    dir: &Path,
-    options: &Options,
-    progress: impl FnMut(u64),
-) -> Result<Export> {
-    super::stream::export(source.into(), dir, options, Layout::Log, progress).map(|(e, _)| e)
 }
 
 /// Writes the rows of one topic instance to a Parquet file at `path` (replaced if it
@@ -220,10 +166,18 @@ fn write_table(
 /// no dictionary for float, double and timestamp columns, no statistics for float and
 /// double columns, and, for wide tables, no dictionaries and chunk statistics only.
 pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterProperties {
-    let narrow = leaves(table.schema.fields()) <= WIDE_LEAVES;
-    let compression = compression_of(options.compression);
-    let mut metadata: Vec<KeyValue> = table
-        .schema
+    writer_properties(&table.schema, options.compression)
+}
+
+/// The writer properties of a Parquet file of `schema` as the export writes its
+/// files: `compression`, the schema's metadata as the file's key-value metadata
+/// (sorted), no dictionary for float, double and timestamp columns, no statistics
+/// for float and double columns, and, for tables of more than 1,024 leaf columns, no
+/// dictionaries and column chunk statistics only.
+pub fn writer_properties(schema: &Schema, compression: Compression) -> WriterProperties {
+    let narrow = leaves(schema.fields()) <= WIDE_LEAVES;
+    let compression = compression_of(compression);
+    let mut metadata: Vec<KeyValue> = schema
         .metadata()
         .iter()
         .map(|(k, v)| KeyValue::new(k.clone(), v.clone()))
@@ -244,7 +198,7 @@ pub(super) fn properties(table: &TopicTable, options: &Options) -> WriterPropert
     // what queries filter on) keep theirs. It also keeps DuckDB from answering a
     // filter on NaN from statistics that leave NaN out (README, "Fleet analysis").
     if narrow {
-        if let Ok(parquet) = parquet::arrow::ArrowSchemaConverter::new().convert(&table.schema) {
+        if let Ok(parquet) = parquet::arrow::ArrowSchemaConverter::new().convert(schema) {
             use parquet::basic::Type;
             for column in parquet.columns() {
                 let float = matches!(column.physical_type(), Type::FLOAT | Type::DOUBLE);

@@ -17,7 +17,9 @@ pub const METADATA_FILE: &str = "metadata.json";
 
 /// The log's metadata as a JSON object (what [`write_metadata`] writes):
 ///
-/// - `version`, `start_timestamp`, `last_timestamp` (µs), `truncated`, `damaged`;
+/// - `version`, `start_timestamp`, `last_timestamp` (µs, as pyulog's), `span_start`,
+///   `span_end` (µs, the log's [span](crate::ULog::span): what a time axis shows),
+///   `truncated`, `damaged`;
 /// - `info`: object, information key name → value (the last of a repeated key);
 /// - `multi_info`: object, key name → list of entries, each the list of its parts'
 ///   values (continued messages are parts of one entry);
@@ -37,8 +39,8 @@ pub const METADATA_FILE: &str = "metadata.json";
 /// Values: integers as JSON numbers (full `u64`/`i64` range), `float` and `double` as
 /// the shortest decimal that reads back to the same value (`null` for NaN and
 /// infinities), booleans, strings as in the Parquet files (trailing NULs removed, one
-/// character per byte), arrays as lists, and bytes of a type this reader cannot
-/// decode as a string of hex digits.
+/// character per byte; `"` and `\` escaped, control characters as `\uXXXX`), arrays
+/// as lists, and bytes of a type this reader cannot decode as a string of hex digits.
 ///
 /// ```
 /// let bytes = ulog_core::testing::sample_log();
@@ -87,6 +89,10 @@ pub(super) fn json(log: &ULog<'_>, facts: &Facts<'_>) -> String {
     j.raw(&log.start_timestamp().to_string());
     j.key("last_timestamp");
     j.raw(&facts.last_timestamp.to_string());
+    j.key("span_start");
+    j.raw(&log.span().start().to_string());
+    j.key("span_end");
+    j.raw(&log.span().end().to_string());
     let truncated = facts
         .findings
         .iter()
@@ -339,21 +345,7 @@ impl Json {
     }
 
     fn string(&mut self, s: &str) {
-        self.out.push('"');
-        for c in s.chars() {
-            match c {
-                '"' => self.out.push_str("\\\""),
-                '\\' => self.out.push_str("\\\\"),
-                '\n' => self.out.push_str("\\n"),
-                '\r' => self.out.push_str("\\r"),
-                '\t' => self.out.push_str("\\t"),
-                c if (c as u32) < 0x20 || c == '\u{7f}' => {
-                    let _ = write!(self.out, "\\u{:04x}", c as u32);
-                }
-                c => self.out.push(c),
-            }
-        }
-        self.out.push('"');
+        crate::json_text::push_string(&mut self.out, s.chars());
     }
 
     /// A `char[N]` value: trailing NULs removed, one character per byte.

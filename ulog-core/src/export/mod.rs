@@ -6,12 +6,14 @@
 //! [`Options::buffer_bytes`], not the size of the log; the messages other than data,
 //! information, parameters and logged strings, are kept for the metadata), and writes
 //! one Parquet file per topic instance with data, named
-//! [`file_name`] (`<topic>_<multi_id>.parquet`, `/` in a topic name becoming `_`), and
+//! [`file_name`] (`<topic>_<multi_id>.parquet`; a topic name that a file system
+//! would refuse or fold is escaped by the rule of [`crate::naming`]), and
 //! a [`METADATA_FILE`] (`metadata.json`, see [`metadata_json`]) with the log's
 //! information, parameters, logged messages, dropouts and findings.
 //!
 //! A [`Dataset`] holds any number of logs in one folder that query engines read across
-//! logs in one statement: `<topic>/<log_id>.parquet` per topic and log (the same
+//! logs in one statement: `<topic>/<log_id>.parquet` per topic and log (the folder
+//! named by [`crate::naming::folder_name`]; the same
 //! columns, with `log_id` and `multi_id` first) and four tables of what the logs are
 //! ([`LOGS_FILE`], [`PARAMETERS_FILE`], [`MESSAGES_FILE`], [`FORMATS_FILE`]).
 //!
@@ -22,8 +24,9 @@
 //! is `Boolean` (any non-zero byte is true), a lone `char` is its byte (`UInt8`).
 //! `char[N]` is a `Utf8` string: the bytes with trailing NULs removed, each byte one
 //! character (ISO 8859-1), so no byte is lost even when the text is not UTF-8 (ASCII
-//! reads as itself; encode the text as Latin-1 to get the bytes back). No column is
-//! nullable.
+//! reads as itself; encode the text as Latin-1 to get the bytes back). No column of a
+//! topic's table is nullable (a column of rows that may be absent, [`field_array`],
+//! has nulls).
 //!
 //! By default ([`Options::flatten`] false) there is one column per top-level field, in
 //! format order: arrays are `FixedSizeList` columns, nested formats `Struct` columns
@@ -65,6 +68,7 @@ mod error;
 mod files;
 mod lazy_file;
 mod leaves;
+mod lock;
 mod metadata;
 mod rows;
 mod stream;
@@ -79,9 +83,12 @@ use arrow_array::RecordBatch;
 use arrow_schema::SchemaRef;
 
 pub use dataset::{Added, Dataset, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE};
-pub use files::{write_parquet, write_parquet_with, write_topic, Export, Skipped, Written};
+pub use files::{write_topic, writer_properties, Export, Skipped, Written};
+pub use lock::LOCK_FILE;
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
+pub use stream::{write_parquet, write_parquet_with};
 
+use crate::access::field::FieldReader;
 use crate::access::topic::Topic;
 pub use error::{ExportError, ExportErrorKind};
 
@@ -193,6 +200,43 @@ pub fn topic_record_batches<'l, 'a>(
     })
 }
 
+/// The Arrow type of the column a field reader reads, as a flattened table types it
+/// ([`Options::flatten`]; the [module docs](self) list the types): `char[N]` is
+/// `Utf8`, a value its own type, a whole array a `FixedSizeList` of its values.
+///
+/// ```
+/// use ulog_core::export::{self, arrow_schema::DataType};
+/// let bytes = ulog_core::testing::sample_log();
+/// let log = ulog_core::ULog::parse(&bytes)?;
+/// let topic = log.topic("vehicle_attitude", 0)?;
+/// assert_eq!(export::field_data_type(&topic.field("q[0]")?), DataType::Float32);
+/// assert_eq!(export::field_data_type(&topic.field("timestamp")?), DataType::UInt64);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn field_data_type(reader: &FieldReader) -> arrow_schema::DataType {
+    arrow::field_data_type(reader)
+}
+
+/// The values a field reader reads in payloads of its topic, as an Arrow array of
+/// [`field_data_type`], values read as the export reads them (text as the module
+/// docs say): null where a row is `None` (a table that has no row there, such as a
+/// topic [aligned](crate::align) at a step it has no value for) or too short for the
+/// field.
+///
+/// ```
+/// use ulog_core::export::{self, arrow_array::Array};
+/// let bytes = ulog_core::testing::sample_log();
+/// let log = ulog_core::ULog::parse(&bytes)?;
+/// let topic = log.topic("vehicle_attitude", 0)?;
+/// let rows = [topic.payload(0), None, topic.payload(1)];
+/// let q0 = export::field_array(&topic.field("q[0]")?, &rows)?;
+/// assert_eq!((q0.len(), q0.null_count()), (3, 1));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn field_array(reader: &FieldReader, rows: &[Option<&[u8]>]) -> Result<arrow_array::ArrayRef> {
+    arrow::field_array(reader, rows)
+}
+
 /// The record batches of one topic, in row order (see [`topic_record_batches`]).
 #[derive(Debug)]
 pub struct RecordBatches<'l, 'a> {
@@ -253,15 +297,18 @@ pub fn selected_topics<'l, 'a>(log: &'l ULog<'a>, options: &Options) -> Result<V
     Ok(topics)
 }
 
-/// The file name of a topic instance: `<topic>_<multi_id>.parquet`, `/` in the name
-/// becoming `_`.
+/// The file name of a topic instance in its log's folder: `<topic>_<multi_id>.parquet`,
+/// the topic's name as [`LogNames`](crate::naming::LogNames) gives it for the topics
+/// of its log (as it is for every PX4 topic; escaped when a file system would refuse
+/// or fold it: [`crate::naming`]).
 pub fn file_name(topic: &Topic<'_, '_>) -> String {
-    name_of(topic.name(), topic.multi_id())
+    let names = crate::naming::LogNames::new(topic.log().topics().map(|t| t.name()));
+    name_of(&names.file_part(topic.name()), topic.multi_id())
 }
 
-/// [`file_name`] of topic `name`, instance `multi_id`.
-pub(crate) fn name_of(name: &str, multi_id: u8) -> String {
-    format!("{}_{multi_id}.parquet", name.replace('/', "_"))
+/// The file name of topic instance `multi_id` whose name in file names is `part`.
+pub(crate) fn name_of(part: &str, multi_id: u8) -> String {
+    format!("{part}_{multi_id}.parquet")
 }
 
 /// Appends the text of a `char[N]` value to `out` (cleared first): the bytes up to the

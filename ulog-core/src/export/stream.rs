@@ -20,17 +20,18 @@ use std::sync::{Arc, Condvar, Mutex};
 use crate::access::lookup::{LookupError, TopicNotFound};
 use crate::definitions::Subscription;
 use crate::log::ulog::ULog;
-use crate::pass::driver::Hand;
+use crate::log::utc::UtcClock;
 use crate::pass::source::{drive_keeping, Source};
+use crate::pass::visit::Hand;
 
 use super::arrow::TopicTable;
-use super::dataset::LogTables;
 use super::error::{ExportError, ExportErrorKind};
 use super::files::{
     leaves, properties, write_error, Export, Skipped, Written, ROW_GROUP_BYTES, WIDE_LEAVES,
 };
 use super::lazy_file::LazyFile;
 use super::leaves::LeafWriter;
+use super::lock::partial_name;
 use super::metadata::{json, Facts};
 use super::rows::Rows;
 use super::{name_of, Options, METADATA_FILE};
@@ -114,25 +115,84 @@ struct Open {
 }
 
 /// Where the pass writes.
-pub(super) enum Layout<'a> {
+pub(super) enum Layout<'a, T> {
     /// A log's folder: `<topic>_<multi_id>.parquet` per topic instance and
     /// [`METADATA_FILE`].
     Log,
     /// A dataset: `<topic>/<log_id>.parquet` per topic ([`Options::log_id`]), its
-    /// instances in one file; the log's own tables are returned, not written.
-    Dataset(&'a super::dataset::Origin),
+    /// instances in one file; the log's own rows of the dataset's tables are made by
+    /// the function (from the log kept without its data, what the pass learnt of the
+    /// data, and the log's UTC clock) and returned, not written.
+    Dataset(&'a TablesOf<'a, T>),
 }
 
-/// Writes the log of `source` to `dir` (see [`super::write_parquet`]).
-pub(super) fn export(
+/// What makes a log's rows of a dataset's tables ([`Layout::Dataset`]).
+pub(super) type TablesOf<'a, T> = dyn Fn(&ULog<'_>, &Facts<'_>, Option<UtcClock>) -> Result<T> + 'a;
+
+/// Writes a log to `dir` (created when missing): every selected topic instance with
+/// data to its own Parquet file, named by [`super::file_name`], and the metadata file
+/// [`METADATA_FILE`](super::METADATA_FILE). Files of those names already there are replaced; other files in
+/// `dir` are left as they are.
+///
+/// The log is read once, in file order, from any [`Source`]: a file or reader
+/// ([`Source::file`], [`Source::reader`]) is read in chunks and never held whole;
+/// each topic's rows are held until a row group of them is full (16 MiB of payload or
+/// [`Options::row_group_rows`]), or until the rows held by all topics pass
+/// [`Options::buffer_bytes`], when the topic holding the most is written out. Row
+/// groups are encoded on [`Options::threads`] threads while the log is read, each
+/// topic's in the order they were cut: the files are the same whatever the source
+/// and the number of threads.
+///
+/// A topic whose format cannot be laid out, or that has no field with values, is left
+/// out and listed in [`Export::skipped`]. Errors: a log that cannot be read, a topic
+/// of [`Options::topics`] that is not in the log (unless
+/// [`Options::skip_missing_topics`]), and failures to write. Files are written under
+/// temporary names of this export's own and renamed when the whole log is done: after
+/// an error, no file of this export is left in `dir` (a file of the same name that a
+/// rename had already replaced is gone too), and the folders it made are removed when
+/// empty. Two exports of a log into one folder at once do not share a temporary file:
+/// each file is whole, from one or the other.
+///
+/// ```
+/// use ulog_core::export::{self, Options};
+/// let bytes = ulog_core::testing::sample_log();
+/// let dir = std::env::temp_dir().join(format!("ulog-doc-{}", std::process::id()));
+/// let written = export::write_parquet(&bytes, &dir, &Options::default())?;
+/// assert!(written.files.iter().any(|f| f.path.ends_with("battery_status_1.parquet")));
+/// assert!(written.metadata.ends_with("metadata.json"));
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_parquet<'s>(
+    source: impl Into<Source<'s>>,
+    dir: &Path,
+    options: &Options,
+) -> Result<Export> {
+    export::<()>(source.into(), dir, options, Layout::Log, |_| {}).map(|(e, _)| e)
+}
+
+/// [`write_parquet`], calling `progress` with the byte offset in the log that the pass
+/// has reached, every 8 MiB or so (to show progress; the bytes after the last call are
+/// read too, without one).
+pub fn write_parquet_with<'s>(
+    source: impl Into<Source<'s>>,
+    dir: &Path,
+    options: &Options,
+    progress: impl FnMut(u64),
+) -> Result<Export> {
+    export::<()>(source.into(), dir, options, Layout::Log, progress).map(|(e, _)| e)
+}
+
+/// Writes the log of `source` to `dir` (see [`write_parquet`]).
+pub(super) fn export<T>(
     source: Source<'_>,
     dir: &Path,
     options: &Options,
-    layout: Layout<'_>,
+    layout: Layout<'_, T>,
     mut progress: impl FnMut(u64),
-) -> Result<(Export, Option<LogTables>)> {
+) -> Result<(Export, Option<T>)> {
     let dataset = match layout {
-        Layout::Dataset(about) => Some(about),
+        Layout::Dataset(tables) => Some(tables),
         Layout::Log => None,
     };
     // The folders this export makes, innermost first: removed again after an error.
@@ -230,7 +290,7 @@ pub(super) fn export(
         };
         // Everything but the data kept as the pass goes (a log of its own, with the
         // times, GPS times and events the data gives it).
-        let result = drive_keeping(source, true, &mut |r: crate::DataRecord<'_>| {
+        let result = drive_keeping(source, true, &[], &mut |r: crate::DataRecord<'_>| {
             let i = r.topic.index();
             if slots.len() <= i {
                 slots.resize_with(i + 1, || Slot::Unseen);
@@ -326,7 +386,7 @@ pub(super) fn export(
         Some(_) => dir.join(super::LOGS_FILE),
         None => dir.join(METADATA_FILE),
     };
-    let metadata_partial = dir.join(format!("{METADATA_FILE}.partial"));
+    let metadata_partial = dir.join(partial_name(METADATA_FILE));
     let done = (|| {
         let summary = scanned.map_err(ExportError::read)?;
         if let Some(e) = failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
@@ -366,10 +426,7 @@ pub(super) fn export(
             events: events.as_ref(),
         };
         let tables = match dataset {
-            Some(about) => {
-                let utc = kept.utc();
-                Some(LogTables::new(&log, &facts, about, utc)?)
-            }
+            Some(tables_of) => Some(tables_of(&log, &facts, kept.utc())?),
             None => {
                 std::fs::write(&metadata_partial, json(&log, &facts))
                     .map_err(|e| ExportError::io(e, &metadata))?;
@@ -452,19 +509,22 @@ fn open(
     let group_rows = options
         .row_group_rows
         .clamp(1, (ROW_GROUP_BYTES / row_size).max(1));
-    // A dataset's files: `<topic>/<log_id>.parquet`; a log's: `<topic>_<multi_id>.parquet`.
+    // A dataset's files: `<topic>/<log_id>.parquet`, the folder named by the naming
+    // rule; a log's: `<topic>_<multi_id>.parquet`, named when the pass is done (the
+    // rule looks at all its topics' names), written meanwhile under the folder name.
+    let folder_name = crate::naming::folder_name(sub.name());
     let (folder, stem) = match (&options.log_id, dataset) {
-        (Some(log_id), true) => (dir.join(sub.name().replace('/', "_")), log_id.clone()),
+        (Some(log_id), true) => (dir.join(folder_name.as_ref()), log_id.clone()),
         _ => (
             dir.to_owned(),
-            name_of(sub.name(), sub.multi_id())
+            name_of(&folder_name, sub.multi_id())
                 .trim_end_matches(".parquet")
                 .to_owned(),
         ),
     };
     let new_file = || {
         Arc::new(TopicFile {
-            partial: folder.join(format!("{stem}.parquet.{}.partial", sub.index())),
+            partial: folder.join(partial_name(&format!("{stem}.parquet"))),
             shown: folder.join(format!("{stem}.parquet")),
             state: Mutex::new(FileState {
                 writer: None,
@@ -487,7 +547,7 @@ fn open(
             .entry(folder.clone())
             .or_insert_with(|| (sub.name().to_owned(), new_file()));
         if name != sub.name() {
-            // `a/b` and `a_b` would share a folder (and a file).
+            // Two names of one hash (the naming rule makes every other pair distinct).
             skipped.push(Skipped {
                 topic: sub.name().to_owned(),
                 multi_id: sub.multi_id(),
@@ -513,7 +573,7 @@ fn open(
         table: (!wide).then(|| Arc::new(table)),
         file,
         spill: Spill {
-            path: folder.join(format!("{stem}.{}.rows.partial", sub.index())),
+            path: folder.join(partial_name(&format!("{stem}.{}.rows", sub.index()))),
             file: None,
             bytes: 0,
         },
@@ -642,6 +702,7 @@ fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path, dataset: bool) -> Re
     }
     order.sort_by(|a, b| key(a).cmp(&key(b)));
     let mut names = std::collections::HashSet::new();
+    let parts = crate::naming::LogNames::new(order.iter().map(|o| o.sub.name()));
     let mut files: Vec<Written> = Vec::with_capacity(order.len());
     for slot in order {
         if dataset {
@@ -655,7 +716,7 @@ fn rename(opened: &[&mut Open], rows: &[usize], dir: &Path, dataset: bool) -> Re
         let path = if dataset {
             slot.file.shown.clone()
         } else {
-            let mut name = name_of(slot.sub.name(), slot.sub.multi_id());
+            let mut name = name_of(&parts.file_part(slot.sub.name()), slot.sub.multi_id());
             if !names.insert(name.clone()) {
                 name = format!(
                     "{}_msg{}.parquet",

@@ -203,6 +203,46 @@ fn every_basic_type_keeps_its_width_and_value() {
 }
 
 #[test]
+fn a_field_column_has_the_flattened_tables_type_and_values_and_nulls_where_rows_are_absent() {
+    let bytes = all_types_log();
+    let log = ULog::parse(&bytes).unwrap();
+    let topic = log.topic("all", 0).unwrap();
+    let table = topic_record_batch(&topic, &flat()).unwrap();
+    let (first, second) = (topic.payload(0).unwrap(), topic.payload(1).unwrap());
+    // Absent, a row, a row too short for most fields, the other row.
+    let rows = [None, Some(first), Some(&first[..9]), Some(second)];
+    for reader in topic.fields().unwrap() {
+        let name = reader.path();
+        let whole = table.column_by_name(name).unwrap();
+        assert_eq!(&field_data_type(&reader), whole.data_type(), "{name}");
+        let column = field_array(&reader, &rows).unwrap();
+        assert_eq!(column.data_type(), whole.data_type(), "{name}");
+        // The short row holds the timestamp and `a` only.
+        let short_fits = matches!(name, "timestamp" | "a");
+        let nulls: Vec<bool> = (0..4).map(|i| column.is_null(i)).collect();
+        assert_eq!(nulls, [true, false, !short_fits, false], "{name}");
+        assert_eq!(
+            column.slice(1, 1).to_data(),
+            whole.slice(0, 1).to_data(),
+            "{name}"
+        );
+        assert_eq!(
+            column.slice(3, 1).to_data(),
+            whole.slice(1, 1).to_data(),
+            "{name}"
+        );
+    }
+    let q = topic.field("s").unwrap();
+    assert_eq!(
+        field_array(&q, &[Some(first)])
+            .unwrap()
+            .as_string::<i32>()
+            .value(0),
+        "a\u{ff}\0b"
+    );
+}
+
+#[test]
 fn nested_formats_are_structs_and_arrays_fixed_size_lists() {
     let bytes = nested_log();
     let log = ULog::parse(&bytes).unwrap();
@@ -995,12 +1035,13 @@ fn a_dataset_file_holds_every_instance_of_a_topic_with_its_log_and_instance() {
         .map(|b| format!("{b:02x}"))
         .collect();
     assert_eq!(text("sha256"), sha);
-    // The GPS time of the row at 2000 µs, taken during the pass.
+    // The GPS time of the row at 2000 µs, taken during the pass, at the log's start:
+    // its first timestamp (1000 µs), as the header has none (`ULog::span`).
     let utc = logs
         .column_by_name("start_utc")
         .unwrap()
         .as_primitive::<arrow_array::types::TimestampMicrosecondType>();
-    assert_eq!(utc.value(0), 1_700_000_000_000_000);
+    assert_eq!(utc.value(0), 1_700_000_000_001_000);
     let (_, params) = read_back(&dir.join(PARAMETERS_FILE));
     let kinds: Vec<&str> = params
         .column_by_name("kind")
@@ -1145,36 +1186,138 @@ fn a_wide_topic_in_two_instances_keeps_both_in_its_dataset_file() {
     let _ = std::fs::remove_file(&log);
 }
 
-#[test]
-fn two_topic_names_that_would_share_a_folder_are_not_mixed() {
+/// A log whose topic names a file system refuses or folds: Windows's device names,
+/// names that differ only in case, `a/b` beside `a_b`, a name of 300 bytes. (The
+/// format grammar takes only letters, digits, `_`, `-` and `/` in a topic's name: other
+/// characters cannot reach a file name; `naming`'s tests cover them.)
+fn awkward_names_log() -> (Vec<u8>, Vec<String>) {
+    let long = format!("long_{}", "x".repeat(295));
+    let names: Vec<String> = [
+        "CON",
+        "aux",
+        "nul",
+        "com1",
+        "LPT9",
+        "FOO",
+        "Foo",
+        "foo",
+        "a/b",
+        "a_b",
+        &long,
+        "vehicle_status",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     let mut b = LogBuilder::new(1, 0);
-    b.format("a/b:uint64_t timestamp;float x;");
-    b.format("a_b:uint64_t timestamp;float x;");
-    b.subscribe(0, 0, "a/b");
-    b.subscribe(0, 1, "a_b");
-    for id in [0u16, 1, 0, 1] {
-        let mut p = 1000u64.to_le_bytes().to_vec();
-        p.extend_from_slice(&f32::from(id).to_le_bytes());
-        b.data(id, &p);
+    for name in &names {
+        b.format(&format!("{name}:uint64_t timestamp;uint32_t n;"));
     }
-    let dir = scratch("dataset_clash");
-    let log = dir.with_extension("ulg");
-    std::fs::write(&log, b.into_bytes()).expect("write");
-    let dataset = Dataset::open(&dir, &Options::default()).expect("open");
-    let Added::Written { export, .. } = dataset.add(&log, None, |_| {}).expect("add") else {
+    // Formats first, as PX4 writes them: in the data section, a format whose name is
+    // this long is not told from garbage.
+    for (id, name) in names.iter().enumerate() {
+        b.subscribe(0, id as u16, name);
+    }
+    // Each topic's rows hold its own number: 1 + id rows of it.
+    for (id, _) in names.iter().enumerate() {
+        for row in 0..=id as u64 {
+            let mut p = (1000 + row).to_le_bytes().to_vec();
+            p.extend_from_slice(&(id as u32).to_le_bytes());
+            b.data(id as u16, &p);
+        }
+    }
+    (b.into_bytes(), names)
+}
+
+/// Checks the file of topic `names[id]` at `path`: its name valid on every common
+/// file system, its rows those of the topic, its real name in its metadata.
+fn check_topic_file(path: &std::path::Path, names: &[String], id: usize) {
+    let (schema, batch) = read_back(path);
+    for part in path.components().rev().take(2) {
+        let part = part.as_os_str().to_string_lossy();
+        assert!(part.len() <= 200 && part.is_ascii(), "{part}");
+        assert!(
+            !part.contains(['<', '>', ':', '"', '\\', '|', '?', '*']),
+            "{part}"
+        );
+    }
+    assert_eq!(
+        schema.metadata()["ulog.topic"],
+        names[id],
+        "{}",
+        path.display()
+    );
+    let n = batch
+        .column_by_name("n")
+        .unwrap()
+        .as_primitive::<UInt32Type>();
+    assert_eq!(n.len(), id + 1, "{}", names[id]);
+    assert!(n.iter().all(|v| v == Some(id as u32)), "{}", names[id]);
+}
+
+#[test]
+fn topic_names_a_file_system_refuses_or_folds_keep_every_row() {
+    let (bytes, names) = awkward_names_log();
+    let folded = |p: &std::path::Path| p.to_string_lossy().to_lowercase();
+
+    // A log's folder: one file per topic, names distinct in any case.
+    let dir = scratch("awkward_names");
+    let written = write_parquet(&bytes, &dir, &Options::default()).unwrap();
+    assert!(written.skipped.is_empty(), "{:?}", written.skipped);
+    assert_eq!(written.files.len(), names.len());
+    let mut seen = std::collections::HashSet::new();
+    for f in &written.files {
+        let id = names.iter().position(|n| *n == f.topic).unwrap();
+        check_topic_file(&f.path, &names, id);
+        assert!(seen.insert(folded(&f.path)), "{}", f.path.display());
+    }
+    let file_of = |topic: &str| {
+        let f = written.files.iter().find(|f| f.topic == topic).unwrap();
+        f.path.file_name().unwrap().to_string_lossy().into_owned()
+    };
+    // PX4's names and a lone case are kept; the others escaped.
+    assert_eq!(file_of("vehicle_status"), "vehicle_status_0.parquet");
+    assert_eq!(file_of("foo"), "foo_0.parquet");
+    assert_eq!(file_of("a_b"), "a_b_0.parquet");
+    assert!(file_of("a/b").starts_with("a_b~"), "{}", file_of("a/b"));
+    assert!(file_of("CON").starts_with("CON~"), "{}", file_of("CON"));
+    assert!(file_of("Foo").starts_with("Foo~"), "{}", file_of("Foo"));
+    // The library's name of each file is the one written.
+    let log = ULog::parse(&bytes).unwrap();
+    for t in log.topics() {
+        assert_eq!(file_name(&t), file_of(t.name()));
+    }
+
+    // A dataset: one folder per topic, distinct in any case, every row in.
+    let ds = scratch("awkward_dataset");
+    let path = ds.with_extension("ulg");
+    std::fs::write(&path, &bytes).unwrap();
+    let dataset = Dataset::open(&ds, &Options::default()).unwrap();
+    let Added::Written { log_id, export } = dataset.add(&path, None, |_| {}).unwrap() else {
         panic!("a new dataset has no log")
     };
-    assert_eq!(export.files.len(), 1);
-    assert_eq!(
-        (export.files[0].topic.as_str(), export.files[0].rows),
-        ("a/b", 2)
-    );
-    assert_eq!(export.skipped.len(), 1);
-    assert_eq!(export.skipped[0].topic, "a_b");
-    assert!(export.skipped[0]
-        .error
-        .to_string()
-        .contains("share the folder"));
+    dataset.finish().unwrap();
+    assert!(export.skipped.is_empty(), "{:?}", export.skipped);
+    assert_eq!(export.files.len(), names.len());
+    let mut seen = std::collections::HashSet::new();
+    for f in &export.files {
+        let id = names.iter().position(|n| *n == f.topic).unwrap();
+        assert_eq!(
+            f.path.file_name().unwrap().to_string_lossy(),
+            format!("{log_id}.parquet")
+        );
+        let folder = f.path.parent().unwrap();
+        assert_eq!(
+            folder.file_name().unwrap().to_string_lossy(),
+            crate::naming::folder_name(&names[id])
+        );
+        assert!(seen.insert(folded(folder)), "{}", folder.display());
+        check_topic_file(&f.path, &names, id);
+    }
+    assert!(ds.join("vehicle_status").is_dir());
+    assert!(ds.join("foo").is_dir());
+    assert!(!ds.join("FOO").exists() && !ds.join("CON").exists());
     let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::remove_file(&log);
+    let _ = std::fs::remove_dir_all(&ds);
+    let _ = std::fs::remove_file(&path);
 }

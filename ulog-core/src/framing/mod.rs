@@ -112,7 +112,8 @@ const PREFETCH_AHEAD: usize = 2048;
 
 /// The end (relative to `win`) and msg_id entry of the data message at `rel` when it
 /// is plain: a data message ending by `limit`, of a subscribed msg_id and a size its
-/// layout allows.
+/// layout allows, that zero fill did not cut (it ends in a non-zero byte, or a message
+/// header that is not zeros follows it).
 #[inline(always)]
 fn plain_at(win: &[u8], rel: usize, limit: usize, by_id: &[IdEntry]) -> Option<(usize, IdEntry)> {
     let head = win.get(rel..rel + 5)?;
@@ -122,6 +123,12 @@ fn plain_at(win: &[u8], rel: usize, limit: usize, by_id: &[IdEntry]) -> Option<(
         return None;
     }
     let entry = by_id[u16::from_le_bytes([head[3], head[4]]) as usize];
+    // A payload that ends in a zero byte, followed by a zero header or by the end of
+    // the window, may have been cut by zero fill: `Framer::step` decides
+    // (`Framer::cut_by_zero_fill`).
+    if win[end - 1] == 0 && win.get(end..end + 3).map_or(true, |h| h == [0, 0, 0]) {
+        return None;
+    }
     (entry.sub != NO_SUB && entry.accepts(size - 2)).then_some((end, entry))
 }
 
@@ -313,6 +320,17 @@ impl Framer {
                 Check::Ok(size) => {
                     let rel = (p - base) as usize;
                     let msg_type = win[rel + 2];
+                    if msg_type == b'D' {
+                        match self.cut_by_zero_fill(win, base, p, size, eof) {
+                            None => return Ok(Step::NeedMore),
+                            Some(true) => {
+                                self.phase = Phase::Messages;
+                                self.resync = Some(Resync::cut(p, size));
+                                continue;
+                            }
+                            Some(false) => {}
+                        }
+                    }
                     self.phase = Phase::Messages;
                     let record = Record::framed(p, msg_type, size);
                     self.pos = record.end();

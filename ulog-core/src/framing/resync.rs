@@ -2,7 +2,9 @@
 //! messages after it frame cleanly; otherwise the reader looks forward for the next
 //! sync magic or the first header that starts a chain of plausible messages (a short
 //! one will do where it ends at the end of the file or at zero fill), and reports the
-//! stretch it skipped.
+//! stretch it skipped. A data message that zero fill cut (its header written, the rest
+//! in a block the SD card never wrote) is damage too, reported with the zeros after it
+//! ([`Framer::cut_by_zero_fill`]).
 
 use crate::bytes::{u16_at, SYNC_MAGIC};
 use crate::finding::{Corruption, FindingKind};
@@ -20,6 +22,23 @@ pub(super) struct Resync {
     all_zero: bool,
     overrun: bool,
     zero_size: bool,
+    /// Whether the stretch starts with a data message cut by zero fill.
+    cut: bool,
+}
+
+impl Resync {
+    /// The stretch of a data message at `p` (`size` bytes of payload) that zero fill
+    /// cut, and of the zeros after it: looked through from the message's end.
+    pub(super) fn cut(p: u64, size: u16) -> Resync {
+        Resync {
+            start: p,
+            next: p + 3 + u64::from(size),
+            all_zero: false,
+            overrun: false,
+            zero_size: false,
+            cut: true,
+        }
+    }
 }
 
 /// Messages that must frame cleanly after a place for it to count as real messages.
@@ -42,6 +61,16 @@ enum ChainEnd {
 /// a whole message followed by zero fill (rather than a corrupt size field): zero
 /// fill comes in sectors, while payloads hold shorter zero runs.
 const ZEROS_AFTER_MISMATCH: usize = 512;
+
+/// An SD card's sector: the unit it writes in, so that the blocks it never wrote
+/// (after a power loss) are zeros from a multiple of it in the file (a file starts at
+/// the start of a cluster), at least this long.
+const SECTOR: u64 = 512;
+
+/// The most non-zero bytes a data message's payload may start with and still be taken
+/// for one cut by zero fill away from a sector boundary: two bytes of timestamp are
+/// under 65,536 µs after boot, before any logger writes a row.
+const CUT_HEAD: usize = 2;
 
 impl Framer {
     /// Handles a message that is not plausible at `p`.
@@ -108,6 +137,14 @@ impl Framer {
                     // by corruption can land on a few zero bytes inside a payload.
                     let after = (end - base) as usize;
                     if matches!(bad, Bad::SizeMismatch(..)) {
+                        match self.cut_by_zero_fill(win, base, p, size, eof) {
+                            None => return Some(Step::NeedMore),
+                            Some(true) => {
+                                self.resync = Some(Resync::cut(p, size));
+                                return None;
+                            }
+                            Some(false) => {}
+                        }
                         let tail = win.get(after..).unwrap_or(&[]);
                         let seen = &tail[..tail.len().min(ZEROS_AFTER_MISMATCH)];
                         if seen.len() >= 3 && seen.iter().all(|&b| b == 0) {
@@ -128,8 +165,72 @@ impl Framer {
             all_zero: win[rel] == 0,
             overrun: matches!(bad, Bad::Overrun),
             zero_size: matches!(bad, Bad::ZeroSize),
+            cut: false,
         });
         None
+    }
+
+    /// Whether the data message at `p` (`size` bytes of payload, within `win`) was cut
+    /// by zero fill: its payload ends in a run of zero bytes that goes on past its end
+    /// (a zero header follows it, so the resync skips the rest of the run) for a
+    /// sector's length at least ([`SECTOR`] bytes from where the run starts), and
+    /// either the sector that holds the message's last byte is zeros from its start (an
+    /// unwritten block that begins inside the message) or the run is all the payload
+    /// but its msg_id and first [`CUT_HEAD`] bytes and the message does not end at a sector
+    /// boundary (where an unwritten block would start right after a whole message).
+    ///
+    /// The second form is what a power-loss log shows where the blocks are not aligned
+    /// with the file (timestamps 0, 34, 202 amid rows at 14 s): such a payload is a
+    /// timestamp under 65,536 µs and nothing else, which no logger writes. A real row
+    /// whose values are all zero keeps a real timestamp (a disarmed vehicle's
+    /// `actuator_outputs`, zeros from byte 12 on, just before zero fill is a row; an
+    /// earlier "most of the payload" rule dropped it). A payload that ends in a
+    /// non-zero byte, or whose zeros the run does not continue for a sector, is a row;
+    /// so is one whose trailing zeros happen to meet zero fill without either
+    /// condition. `None`: more bytes needed (at most a sector and a header past the
+    /// message's end).
+    pub(super) fn cut_by_zero_fill(
+        &self,
+        win: &[u8],
+        base: u64,
+        p: u64,
+        size: u16,
+        eof: bool,
+    ) -> Option<bool> {
+        let rel = (p - base) as usize;
+        let end = rel + 3 + usize::from(size);
+        let payload = &win[rel + 3..end];
+        let zeros = payload.iter().rev().take_while(|&&b| b == 0).count();
+        if zeros == 0 {
+            return Some(false);
+        }
+        let (run, abs_end) = (base + (end - zeros) as u64, base + end as u64);
+        let sector = (abs_end - 1) / SECTOR * SECTOR;
+        let unwritten_block = sector >= run;
+        // `payload` starts with the two bytes of msg_id.
+        let bare_stamp = abs_end % SECTOR != 0 && zeros + 2 + CUT_HEAD >= payload.len();
+        if !unwritten_block && !bare_stamp {
+            return Some(false);
+        }
+        // Zeros through the sector (or a sector's length of run), and a zero header.
+        let through = if unwritten_block { sector } else { run } + SECTOR;
+        let through = through.max(abs_end + 3);
+        // Bytes after an appended offset are another section's.
+        if self
+            .appended
+            .first()
+            .is_some_and(|&off| off >= abs_end && off < through)
+        {
+            return Some(false);
+        }
+        let seen = &win[end..win.len().min((through - base) as usize)];
+        if seen.iter().any(|&b| b != 0) {
+            return Some(false);
+        }
+        if (seen.len() as u64) < through - abs_end {
+            return if eof { Some(false) } else { None };
+        }
+        Some(true)
     }
 
     fn bad_kind(&self, bad: Bad, msg_type: u8) -> FindingKind {
@@ -198,7 +299,9 @@ impl Framer {
         };
         self.resync = None;
         let len = end_of_damage - s.start;
-        let kind = if resume.is_none() && s.overrun && !s.all_zero {
+        let kind = if s.cut {
+            FindingKind::Corrupt(Corruption::CutByZeroFill)
+        } else if resume.is_none() && s.overrun && !s.all_zero {
             FindingKind::Truncated
         } else if s.all_zero {
             FindingKind::Corrupt(Corruption::ZeroFill)
@@ -246,6 +349,11 @@ impl Framer {
         let data = win.get((q - base) as usize + 2) == Some(&b'D');
         match self.chain_len(win, base, q, eof, depth, false)? {
             (n, _) if n > depth => Some(true),
+            // A lone data message that zero fill cut is part of the stretch.
+            (1, ChainEnd::ZeroFill) if data => {
+                let size = u16_at(win, (q - base) as usize);
+                Some(!self.cut_by_zero_fill(win, base, q, size, eof)?)
+            }
             (n, ChainEnd::FileEnd | ChainEnd::ZeroFill) => Some(n >= 2 || (n == 1 && data)),
             (n, ChainEnd::Broken) => Some(n >= 2),
             (_, ChainEnd::Open) => Some(false),
@@ -443,6 +551,75 @@ mod tests {
             check(&mut inc);
             assert_eq!(i, all.len(), "chunk {chunk}");
             assert_eq!(inc.findings(), log.findings(), "chunk {chunk}");
+        }
+    }
+
+    /// A data message alone between two runs of zeros whose own payload is mostly the
+    /// second run (a timestamp of 34, then zeros) is not an island to keep: the
+    /// resynchronisation goes through it, and the two runs and the message are one
+    /// stretch. A row alone between runs whose payload is its own (a few trailing
+    /// zero bytes, or a real timestamp and every value zero, as a disarmed vehicle's
+    /// `actuator_outputs`) stays an island.
+    #[test]
+    fn a_lone_message_cut_by_zero_fill_is_part_of_the_stretch() {
+        let stamp_only = [&34u64.to_le_bytes()[..], &[0; 4]].concat();
+        let zero_values = [&14_000_000u64.to_le_bytes()[..], &[0; 4]].concat();
+        for (lone_row, cut) in [(stamp_only, true), (row(4), false), (zero_values, false)] {
+            let mut b = LogBuilder::new(1, 0);
+            b.format("t:uint64_t timestamp;uint32_t v;");
+            b.subscribe(0, 0, "t");
+            for v in 0..4 {
+                b.data(0, &row(v));
+            }
+            let start = b.bytes().len() as u64;
+            b.garbage(&[0; 600]);
+            let lone = b.bytes().len() as u64;
+            b.data(0, &lone_row);
+            let zeros = b.bytes().len() as u64;
+            b.garbage(&[0; 4096]);
+            let resume = b.bytes().len() as u64;
+            b.data(0, &row(5)).data(0, &row(6)).data(0, &row(7));
+            let bytes = b.into_bytes();
+            assert_ne!(zeros % 512, 0, "the lone message does not end a sector");
+
+            let log = ULog::parse(&bytes).unwrap();
+            let t = log.topic("t", 0).unwrap();
+            let ts: Vec<u64> = t.timestamps();
+            let found: Vec<_> = log
+                .findings()
+                .iter()
+                .map(|f| (f.kind.clone(), f.offset, f.len))
+                .collect();
+            let zero_fill = FindingKind::Corrupt(Corruption::ZeroFill);
+            if cut {
+                assert_eq!(ts, [0, 100, 200, 300, 500, 600, 700]);
+                assert_eq!(
+                    found,
+                    [(
+                        FindingKind::Corrupt(Corruption::ZeroSize),
+                        start,
+                        resume - start
+                    )]
+                );
+            } else {
+                let lone_stamp = u64::from_le_bytes(lone_row[..8].try_into().unwrap());
+                assert_eq!(ts, [0, 100, 200, 300, lone_stamp, 500, 600, 700]);
+                assert_eq!(
+                    found,
+                    [
+                        (zero_fill.clone(), start, lone - start),
+                        (zero_fill, zeros, resume - zeros)
+                    ]
+                );
+            }
+            let mut inc = PushReader::new();
+            for c in bytes.chunks(100) {
+                inc.push(c);
+                while inc.advance().unwrap() == Progress::Ready {}
+            }
+            inc.finish();
+            while inc.advance().unwrap() == Progress::Ready {}
+            assert_eq!(inc.findings(), log.findings(), "cut {cut}");
         }
     }
 }

@@ -40,6 +40,47 @@ enum Bytes {
 }
 
 impl LogFile {
+    /// The extensions of ULog files (`.ulg`, `.ulog`, compared without case).
+    pub const EXTENSIONS: [&'static str; 2] = ["ulg", "ulog"];
+
+    /// Whether `path` is named as a log file (one of [`LogFile::EXTENSIONS`]).
+    pub fn is_log_name(path: &Path) -> bool {
+        path.extension().is_some_and(|e| {
+            LogFile::EXTENSIONS
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        })
+    }
+
+    /// The logs `input` names, each with its size: the file itself (whatever its
+    /// name), or for a directory every log file ([`LogFile::is_log_name`]) in it and
+    /// its subdirectories (not behind a symbolic link to a directory, which could
+    /// loop), sorted; none when a directory holds none. What `ulog` commands and
+    /// `ulog_rs.convert` take as their inputs.
+    ///
+    /// ```
+    /// let dir = std::env::temp_dir().join(format!("ulog-find-{}", std::process::id()));
+    /// std::fs::create_dir_all(dir.join("sub"))?;
+    /// std::fs::write(dir.join("sub/b.ULG"), b"x")?;
+    /// std::fs::write(dir.join("a.ulog"), b"xy")?;
+    /// std::fs::write(dir.join("notes.txt"), b"")?;
+    /// let found = ulog_core::LogFile::find(&dir)?;
+    /// assert_eq!(found, [(dir.join("a.ulog"), 2), (dir.join("sub/b.ULG"), 1)]);
+    /// # std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn find(input: impl AsRef<Path>) -> Result<Vec<(PathBuf, u64)>, ReadError> {
+        let input = input.as_ref();
+        let meta = std::fs::metadata(input).map_err(|e| ReadError::io(e, None).in_file(input))?;
+        if !meta.is_dir() {
+            return Ok(vec![(input.to_owned(), meta.len())]);
+        }
+        let mut logs = Vec::new();
+        find_logs(input, &mut logs)?;
+        logs.sort();
+        Ok(logs)
+    }
+
     /// Reads the file at `path` into memory (a snapshot of it; see [`LogFile`]): as
     /// many bytes as it held when opened, or fewer if it shrinks meanwhile. A path
     /// that is not a regular file (a pipe, a device) is read to its end.
@@ -241,6 +282,31 @@ impl core::fmt::Debug for LogFile {
             .field("len", &self.bytes().len())
             .finish()
     }
+}
+
+/// The read error of an I/O failure on `path`.
+fn io(path: &Path) -> impl Fn(std::io::Error) -> ReadError + '_ {
+    move |e| ReadError::io(e, None).in_file(path)
+}
+
+/// Adds the log files in `dir` and its subdirectories to `logs` (see [`LogFile::find`]).
+fn find_logs(dir: &Path, logs: &mut Vec<(PathBuf, u64)>) -> Result<(), ReadError> {
+    for entry in std::fs::read_dir(dir).map_err(io(dir))? {
+        let entry = entry.map_err(io(dir))?;
+        let path = entry.path();
+        if entry.file_type().map_err(io(&path))?.is_dir() {
+            find_logs(&path, logs)?;
+            continue;
+        }
+        if !LogFile::is_log_name(&path) {
+            continue;
+        }
+        let meta = std::fs::metadata(&path).map_err(io(&path))?;
+        if meta.is_file() {
+            logs.push((path, meta.len()));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -7,5 +7,6 @@ pub(crate) mod messages;
 pub(crate) mod metadata;
 pub(crate) mod offsets;
 pub(crate) mod params;
+pub(crate) mod span;
 pub(crate) mod ulog;
 pub(crate) mod utc;

@@ -17,6 +17,7 @@ use crate::log::metadata::{
     DefaultParam, Dropout, MultiInfo, ParamChange, ReleaseVersion, UnknownMessage,
 };
 use crate::log::offsets::OffsetIndex;
+use crate::log::span::{SpanTracker, TimeSpan};
 use crate::value::Value;
 
 /// A ULog file parsed in one pass: header, flag bits, definitions, every subscription
@@ -55,6 +56,7 @@ pub struct ULog<'a> {
     findings: Vec<Finding>,
     appended: Vec<u64>,
     last_timestamp: u64,
+    span: TimeSpan,
     message_count: u64,
 }
 
@@ -67,6 +69,13 @@ pub(crate) struct TopicIndex {
     /// timestamp of the log before it (where it stands in the log's time). Empty
     /// for topics with a timestamp.
     pub log_time: Vec<u64>,
+    /// The timestamp of the last row.
+    last_timestamp: u64,
+    /// Whether a row's timestamp is below the one before it in file order, or a row is
+    /// too short for its topic's timestamp (never for a topic without timestamps):
+    /// otherwise the merge by time seeks in the topic by binary search and leaves it
+    /// at the end of a window.
+    pub goes_back: bool,
 }
 
 struct Builder<'a> {
@@ -75,6 +84,7 @@ struct Builder<'a> {
     /// timestamp unwrapper.
     hot: Vec<(TopicIndex, Unwrapper)>,
     multi_by_name: HashMap<String, usize>,
+    span: SpanTracker,
 }
 
 impl<'a> ULog<'a> {
@@ -108,10 +118,12 @@ impl<'a> ULog<'a> {
                 findings: Vec::new(),
                 appended: Vec::new(),
                 last_timestamp: 0,
+                span: TimeSpan::default(),
                 message_count: 0,
             },
             hot: Vec::new(),
             multi_by_name: HashMap::new(),
+            span: SpanTracker::new(0),
         };
         let mut started = false;
         loop {
@@ -124,6 +136,7 @@ impl<'a> ULog<'a> {
                 if let Some(h) = framer.header {
                     b.log.header = h;
                     b.log.last_timestamp = h.timestamp;
+                    b.span = SpanTracker::new(h.timestamp);
                     started = true;
                 }
             }
@@ -134,6 +147,7 @@ impl<'a> ULog<'a> {
             }
         }
         let mut log = b.log;
+        log.span = b.span.finish();
         log.index = b.hot.into_iter().map(|(index, _)| index).collect();
         log.subscriptions = framer.defs.take_subscriptions();
         // Subscriptions without data messages after the last record still get their
@@ -143,12 +157,7 @@ impl<'a> ULog<'a> {
         log.formats = framer.defs.take_formats();
         log.flag_bits = framer.flag_bits;
         log.findings = std::mem::take(&mut framer.findings);
-        log.appended = log
-            .findings
-            .iter()
-            .filter(|f| f.kind == FindingKind::AppendedData)
-            .map(|f| f.offset)
-            .collect();
+        log.appended = appended_of(&log.findings);
         Ok(log)
     }
 }
@@ -176,8 +185,16 @@ impl<'a> Builder<'a> {
         }
         index.offsets.push(offset);
         match unwrap.push(&payload[2..]) {
-            Some(ts) => self.log.last_timestamp = self.log.last_timestamp.max(ts),
-            None => index.log_time.push(self.log.last_timestamp),
+            Some(ts) => {
+                self.log.last_timestamp = self.log.last_timestamp.max(ts);
+                self.span.push(sub, ts, offset);
+                index.goes_back |= ts < index.last_timestamp;
+                index.last_timestamp = ts;
+            }
+            None => {
+                index.goes_back |= unwrap.field().is_some();
+                index.log_time.push(self.log.last_timestamp);
+            }
         }
     }
 
@@ -253,26 +270,84 @@ impl<'a> Builder<'a> {
     }
 }
 
+/// What a pass that kept a log without its data ([`LogMetadata`](crate::read::LogMetadata))
+/// knows of the whole file, given back to the kept log's parse ([`ULog::restore`]).
+pub(crate) struct WholeFile<'w> {
+    /// Per parameter change and dropout: its offset in the kept bytes and the time
+    /// of the data before it, sorted by offset.
+    pub times: &'w [(u64, u64)],
+    /// Per kept message: its offset in the kept bytes and in the file, sorted.
+    pub places: &'w [(u64, u64)],
+    pub last_timestamp: u64,
+    pub flag_bits: Option<FlagBits>,
+    pub subscriptions: &'w [Arc<Subscription>],
+    pub findings: &'w [Finding],
+    pub message_count: u64,
+    /// The span the pass found ([`ULog::span`]).
+    pub span: &'w TimeSpan,
+}
+
 impl ULog<'_> {
-    /// Gives each parameter change and dropout at an offset of `times` (sorted by
-    /// offset) the time paired with it, and the log the last timestamp `last`: a log
-    /// kept without its data ([`LogMetadata`](crate::read::LogMetadata)) has the
-    /// times of the data from the pass that kept it.
-    pub(crate) fn retime(&mut self, times: &[(u64, u64)], last: u64) {
-        self.last_timestamp = last;
-        let at = |offset: u64| {
-            times
+    /// Gives a log kept without its data what the pass that kept it saw of the whole
+    /// file: each parameter change and dropout its time, each message its offset in
+    /// the file, and the file's last timestamp, span, flag bits, subscriptions (when they
+    /// are the kept log's: same names and instances), findings and message count.
+    pub(crate) fn restore(&mut self, whole: &WholeFile<'_>) {
+        self.last_timestamp = whole.last_timestamp;
+        self.span = whole.span.clone();
+        let time = |offset: u64| {
+            let i = whole
+                .times
                 .binary_search_by_key(&offset, |&(o, _)| o)
-                .ok()
-                .map(|i| times[i].1)
+                .ok()?;
+            Some(whole.times[i].1)
         };
         for c in &mut self.param_changes {
-            c.timestamp = at(c.offset).unwrap_or(c.timestamp);
+            c.timestamp = time(c.offset).unwrap_or(c.timestamp);
         }
         for d in &mut self.dropouts {
-            d.timestamp = at(d.offset).unwrap_or(d.timestamp);
+            d.timestamp = time(d.offset).unwrap_or(d.timestamp);
         }
+        let place = |offset: &mut u64| {
+            if let Ok(i) = whole.places.binary_search_by_key(offset, |&(o, _)| o) {
+                *offset = whole.places[i].1;
+            }
+        };
+        self.param_changes
+            .iter_mut()
+            .for_each(|c| place(&mut c.offset));
+        self.dropouts.iter_mut().for_each(|d| place(&mut d.offset));
+        self.default_params
+            .iter_mut()
+            .for_each(|d| place(&mut d.offset));
+        self.logged.iter_mut().for_each(|l| place(&mut l.offset));
+        self.unknown.iter_mut().for_each(|u| place(&mut u.offset));
+        let same = |a: &Arc<Subscription>, b: &Arc<Subscription>| {
+            a.name() == b.name() && a.multi_id() == b.multi_id()
+        };
+        if whole.subscriptions.len() == self.subscriptions.len()
+            && whole
+                .subscriptions
+                .iter()
+                .zip(&self.subscriptions)
+                .all(|(a, b)| same(a, b))
+        {
+            self.subscriptions = whole.subscriptions.to_vec();
+        }
+        self.flag_bits = whole.flag_bits;
+        self.findings = whole.findings.to_vec();
+        self.appended = appended_of(&self.findings);
+        self.message_count = whole.message_count;
     }
+}
+
+/// The offsets where appended data sections start, as the findings say.
+fn appended_of(findings: &[Finding]) -> Vec<u64> {
+    findings
+        .iter()
+        .filter(|f| f.kind == FindingKind::AppendedData)
+        .map(|f| f.offset)
+        .collect()
 }
 
 impl<'a> ULog<'a> {
@@ -297,9 +372,17 @@ impl<'a> ULog<'a> {
     }
 
     /// The largest data timestamp in the log (the start timestamp when there is none
-    /// larger), as pyulog's `last_timestamp`.
+    /// larger), as pyulog's `last_timestamp`. A time axis takes [`ULog::span`]
+    /// instead, which a stale or stray timestamp does not stretch.
     pub fn last_timestamp(&self) -> u64 {
         self.last_timestamp
+    }
+
+    /// The log's time span, by the one rule every output of this library draws and
+    /// writes times with: its start, its end, and the rows far outside it
+    /// ([`TimeSpan`](crate::read::TimeSpan) says how they are found).
+    pub fn span(&self) -> &TimeSpan {
+        &self.span
     }
 
     /// The flag bits message, when the log has one (version 1 logs).

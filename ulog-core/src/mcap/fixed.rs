@@ -1,7 +1,7 @@
 //! The two channels of an MCAP file that are not topics: logged strings on `/rosout`
 //! and parameters on `/ulog/parameters`, their schemas, and their messages.
 
-use super::{json, McapEncoding};
+use super::McapEncoding;
 
 /// The `/rosout` message type, with the `Time` it uses.
 pub(super) const LOG_SCHEMA: &str =
@@ -143,7 +143,7 @@ impl Fields {
             self.out.push(0);
         } else {
             let mut text = String::with_capacity(s.len() + 2);
-            json::text(s.chars(), &mut text);
+            crate::json_text::push_string(&mut text, s.chars());
             self.out.extend_from_slice(text.as_bytes());
         }
     }

@@ -2,7 +2,9 @@
 //! an object of its fields by their names in the log (padding and zero-length arrays
 //! left out), arrays as arrays, nested formats as objects, `char[N]` as the text up
 //! to its first NUL (one character per byte, ISO 8859-1), and floats in their shortest
-//! round-trip form, `null` for NaN and infinities (JSON has no number for them).
+//! round-trip form, `null` for NaN and infinities (JSON has no number for them). Text is
+//! escaped as `crate::json_text` escapes it (control characters as `\uXXXX`), so that a
+//! JSON reader gets it unchanged.
 
 use std::fmt::Write as _;
 
@@ -13,10 +15,9 @@ use super::schema::members;
 /// The JSON Schema (draft 2020-12) of a topic's messages, titled with its type name.
 pub(crate) fn json_schema(layout: &Layout, title: &str) -> String {
     let mut s = String::new();
-    let _ = write!(
-        s,
-        "{{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"{title}\","
-    );
+    s.push_str("{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":");
+    crate::json_text::push_string(&mut s, title.chars());
+    s.push(',');
     object_schema_body(layout, &mut s);
     s.push('}');
     s
@@ -30,13 +31,15 @@ fn object_schema(layout: &Layout, s: &mut String) {
 
 fn object_schema_body(layout: &Layout, s: &mut String) {
     s.push_str("\"type\":\"object\",\"properties\":{");
-    let mut names = Vec::new();
+    let mut names = String::new();
     for (i, f) in members(layout).enumerate() {
         if i > 0 {
             s.push(',');
+            names.push(',');
         }
-        let _ = write!(s, "\"{}\":", f.name);
-        names.push(format!("\"{}\"", f.name));
+        crate::json_text::push_string(s, f.name.chars());
+        s.push(':');
+        crate::json_text::push_string(&mut names, f.name.chars());
         match (&f.ty, f.array_len) {
             (LayoutType::Basic(BasicType::Char), Some(n)) => {
                 let _ = write!(s, "{{\"type\":\"string\",\"maxLength\":{n}}}");
@@ -54,8 +57,7 @@ fn object_schema_body(layout: &Layout, s: &mut String) {
     }
     let _ = write!(
         s,
-        "}},\"required\":[{}],\"additionalProperties\":false",
-        names.join(",")
+        "}},\"required\":[{names}],\"additionalProperties\":false"
     );
 }
 
@@ -107,6 +109,9 @@ fn object(layout: &Layout, p: &[u8], base: usize, s: &mut String) -> Option<()> 
         if i > 0 {
             s.push(',');
         }
+        // Written as they are, message after message: the format grammar gives field
+        // names only ASCII letters, digits and `_`, which JSON strings hold unescaped
+        // (the schema, written once, escapes them all the same).
         let _ = write!(s, "\"{}\":", f.name);
         let at = base + f.offset;
         match (&f.ty, f.array_len) {
@@ -167,23 +172,7 @@ fn finite<F: std::fmt::Debug + Into<f64> + Copy>(v: F, s: &mut String) -> std::f
 
 /// A JSON string of bytes read one character per byte (ISO 8859-1).
 fn string(bytes: &[u8], s: &mut String) {
-    text(bytes.iter().map(|&b| char::from(b)), s);
-}
-
-/// A JSON string of `chars`.
-pub(crate) fn text(chars: impl Iterator<Item = char>, s: &mut String) {
-    s.push('"');
-    for c in chars {
-        match c {
-            '"' => s.push_str("\\\""),
-            '\\' => s.push_str("\\\\"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(s, "\\u{:04x}", c as u32);
-            }
-            c => s.push(c),
-        }
-    }
-    s.push('"');
+    crate::json_text::push_string(s, bytes.iter().map(|&b| char::from(b)));
 }
 
 #[cfg(test)]

@@ -14,8 +14,13 @@
 //!   declare them), padding left out. Field names keep the log's where ROS 2 allows
 //!   them (see `field_name` in the source for the mapping of others). Channel
 //!   metadata: `ulog.topic`, `ulog.multi_id`, `ulog.format` (the format text).
-//! - Each message's log and publish time is its `timestamp` in nanoseconds: since
-//!   boot, or, with [`McapOptions::utc`], since the Unix epoch.
+//! - Each message's publish time is its `timestamp` in nanoseconds: since boot, or,
+//!   with [`McapOptions::utc`], since the Unix epoch. Its log time (when it was
+//!   recorded) is the same, but that with [`McapOptions::span`] (the log's
+//!   [`TimeSpan`]) a message made before logging began (or never stamped) counts as
+//!   recorded at the log's start, and a stray one (far beyond the rows around it) at
+//!   its end ([`TimeSpan::recorded_at`]), so that the file's time range is the
+//!   flight's.
 //! - Logged and tagged strings are `rcl_interfaces/msg/Log` on `/rosout` (ROS levels:
 //!   EMERG/ALERT/CRIT → FATAL, ERR → ERROR, WARNING → WARN, NOTICE/INFO → INFO, DEBUG
 //!   → DEBUG; `name` is `ulog`, or `ulog/tag_<N>` for tagged ones).
@@ -60,6 +65,7 @@ use self::visit::{Slot, Visitor};
 use self::writer::McapWriter;
 use crate::error::ReadError;
 use crate::finding::Finding;
+use crate::log::span::TimeSpan;
 use crate::log::utc::UtcClock;
 use crate::pass::source::{drive, Source};
 
@@ -74,8 +80,9 @@ pub enum McapEncoding {
     /// JSON messages with `jsonschema` schemas, for tools without CDR: each message
     /// an object of its fields by their names in the log, arrays as arrays, nested
     /// formats as objects, `char[N]` as the text up to its first NUL (one character
-    /// per byte, ISO 8859-1), floats in their shortest round-trip form and `null` for
-    /// NaN and infinities. The schema names and channels are those of `Ros2`.
+    /// per byte, ISO 8859-1; control characters as `\uXXXX`), floats in their shortest
+    /// round-trip form and `null` for NaN and infinities. The schema names and
+    /// channels are those of `Ros2`.
     Json,
 }
 
@@ -94,6 +101,11 @@ pub struct McapOptions {
     /// Times in UTC by this clock ([`ULog::utc`](crate::ULog::utc)) instead of since
     /// boot.
     pub utc: Option<UtcClock>,
+    /// The log's span ([`ULog::span`](crate::ULog::span), or
+    /// [`LogMetadata::span`](crate::read::LogMetadata::span) of a pass): messages'
+    /// log times are placed on it (see the [module docs](self)). `None`: every log
+    /// time is the message's timestamp.
+    pub span: Option<TimeSpan>,
     /// Uncompressed bytes per chunk; at least 1.
     pub chunk_bytes: u64,
     /// Chunks compressed with zstd (level −1); `false` writes them as they are
@@ -116,6 +128,7 @@ impl Default for McapOptions {
             start_us: None,
             end_us: None,
             utc: None,
+            span: None,
             chunk_bytes: WriteOptions::DEFAULT_CHUNK_SIZE,
             zstd: true,
         }
@@ -291,6 +304,10 @@ pub fn write_mcap<'s, W: Write + Seek>(
         ),
         ("time".to_owned(), "boot".to_owned()),
     ]);
+    if let Some(span) = &options.span {
+        file.insert("span_start_us".to_owned(), span.start().to_string());
+        file.insert("span_end_us".to_owned(), span.end().to_string());
+    }
     if let Some(clock) = &options.utc {
         file.insert("time".to_owned(), "utc".to_owned());
         file.insert("utc_source".to_owned(), clock.source().to_string());

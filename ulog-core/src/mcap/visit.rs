@@ -13,7 +13,7 @@ use super::{channel_name, json, schema, McapEncoding, McapOptions, McapSkipped, 
 use crate::definitions::timestamp::Unwrapper;
 use crate::framing::{Framer, Record};
 use crate::log::message::Message;
-use crate::pass::driver::{Hand, Visit};
+use crate::pass::visit::{Hand, Visit};
 use crate::{DataRecord, Value};
 
 /// A subscription as the pass meets it.
@@ -77,6 +77,17 @@ impl<W: Write + Seek> Visitor<'_, W> {
             Some(clock) => (clock.at(t).micros().max(0) as u64).saturating_mul(1000),
             None => t.saturating_mul(1000),
         }
+    }
+
+    /// The log time (when it was recorded) and the publish time (its own timestamp)
+    /// of a message stamped `t`, in nanoseconds: with the log's span, a message made
+    /// before logging began was recorded at the start, a stray one at the end.
+    fn times(&self, t: u64) -> (u64, u64) {
+        let recorded = match &self.options.span {
+            Some(span) => span.recorded_at(t),
+            None => t,
+        };
+        (self.nanos(recorded), self.nanos(t))
     }
 
     pub(super) fn metadata(
@@ -152,14 +163,14 @@ impl<W: Write + Seek> Visitor<'_, W> {
     }
 
     fn write(&mut self, channel: u16, sequence: u32, t: u64) -> Result<(), McapError> {
-        let time = self.nanos(t);
-        self.time_range = widen(self.time_range, time);
+        let (log_time, publish_time) = self.times(t);
+        self.time_range = widen(self.time_range, log_time);
         self.writer.write_to_known_channel(
             &MessageHeader {
                 channel_id: channel,
                 sequence,
-                log_time: time,
-                publish_time: time,
+                log_time,
+                publish_time,
             },
             &self.buf,
         )
@@ -250,11 +261,11 @@ impl<W: Write + Seek> Visitor<'_, W> {
         let Some(held) = self.held_params.take() else {
             return Ok(());
         };
-        let start = self
-            .options
-            .start_us
-            .unwrap_or(0)
-            .max(self.start.unwrap_or(0));
+        let log_start = match &self.options.span {
+            Some(span) => span.start(),
+            None => self.start.unwrap_or(0),
+        };
+        let start = self.options.start_us.unwrap_or(0).max(log_start);
         for (name, value) in held {
             self.write_parameter(&name, value, start, true)?;
         }
@@ -365,15 +376,15 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
         if !matches!(self.slots[i], Slot::Open(_)) || !self.options.contains(t) {
             return Hand::Next;
         }
-        let time = self.nanos(t);
+        let (log_time, publish_time) = self.times(t);
         let Slot::Open(c) = &mut self.slots[i] else {
             return Hand::Next;
         };
         let header = MessageHeader {
             channel_id: c.id,
             sequence: (c.messages + 1) as u32,
-            log_time: time,
-            publish_time: time,
+            log_time,
+            publish_time,
         };
         let written = match self.options.encoding {
             McapEncoding::Ros2 => {
@@ -393,7 +404,7 @@ impl<W: Write + Seek> Visit for Visitor<'_, W> {
         match written {
             Ok(true) => {
                 c.messages += 1;
-                self.time_range = widen(self.time_range, time);
+                self.time_range = widen(self.time_range, log_time);
                 Hand::Next
             }
             Ok(false) => {

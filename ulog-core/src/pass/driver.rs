@@ -1,120 +1,12 @@
 //! The framing of a pass between windows of the file: what it hands out (a
-//! [`DataRecord`]), what it skips, and what it saw besides ([`ScanSummary`]).
-
-use std::sync::Arc;
+//! [`DataRecord`], to a [`Visit`]), what it skips, and what it saw besides
+//! ([`ScanSummary`], made at its end).
 
 use crate::definitions::Subscription;
 use crate::error::ReadError;
-use crate::finding::Finding;
-use crate::framing::{FlagBits, Framer, Header, Record, Step};
-use crate::log::ulog::ULog;
-use crate::pass::keep::LogMetadata;
-
-/// A data message met by a pass: where it is, the topic instance it belongs to, and
-/// its payload (after the msg_id).
-#[derive(Debug, Clone, Copy)]
-pub struct DataRecord<'r> {
-    /// Byte offset of the message's 3-byte header.
-    pub offset: u64,
-    /// The msg_id it was logged with (that of its subscription, or of a later
-    /// subscription of the same topic instance).
-    pub msg_id: u16,
-    /// Its subscription.
-    pub topic: &'r Subscription,
-    /// The payload after the msg_id.
-    pub payload: &'r [u8],
-}
-
-/// What a pass saw besides the data messages it handed out.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ScanSummary {
-    /// The file header.
-    pub header: Header,
-    /// The flag bits message, when the log has one.
-    pub flag_bits: Option<FlagBits>,
-    /// Messages framed (of every type).
-    pub messages: u64,
-    /// Data messages of known subscriptions framed, handed out or not (a pass that
-    /// leaves topics out still frames and counts their messages).
-    pub data_messages: u64,
-    /// Every subscription met, in the order of their first `A` messages.
-    pub topics: Vec<Arc<Subscription>>,
-    /// What the reader found and stepped over, in file order.
-    pub findings: Vec<Finding>,
-    /// Whether the callback stopped the pass before the end of the log: the summary
-    /// then covers what was framed until then.
-    pub stopped: bool,
-    /// Everything but the data messages, with what the data says of it, when the
-    /// pass was asked to keep it ([`ScanOptions::keep_metadata`](crate::ScanOptions::keep_metadata)).
-    pub metadata: Option<LogMetadata>,
-}
-
-impl ScanSummary {
-    /// The summary of a log already parsed.
-    pub(crate) fn of(log: &ULog<'_>) -> ScanSummary {
-        ScanSummary {
-            header: log.header(),
-            flag_bits: log.flag_bits().copied(),
-            messages: log.message_count(),
-            data_messages: (0..log.subscriptions().len())
-                .map(|i| log.index(i).offsets.len() as u64)
-                .sum(),
-            topics: log.subscriptions().to_vec(),
-            findings: log.findings().to_vec(),
-            stopped: false,
-            metadata: None,
-        }
-    }
-}
-
-/// What a pass hands messages to: every data record, and (for those that ask) each
-/// other message as framing meets it. A closure taking data records is one.
-pub(crate) trait Visit {
-    /// A data message of a known subscription.
-    fn data(&mut self, record: DataRecord<'_>) -> Hand;
-
-    /// A message other than data: its record, its payload, and framing as it stands
-    /// after it. `false` stops the pass.
-    #[inline(always)]
-    fn other(&mut self, _record: &Record, _payload: &[u8], _framer: &Framer) -> bool {
-        true
-    }
-
-    /// The end of a pass (one the visitor stopped too): framing as it stands there.
-    #[inline(always)]
-    fn end(&mut self, _framer: &Framer) {}
-}
-
-impl<F: FnMut(DataRecord<'_>) -> Hand> Visit for F {
-    #[inline(always)]
-    fn data(&mut self, record: DataRecord<'_>) -> Hand {
-        self(record)
-    }
-}
-
-/// What the driver does after handing out a record.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Hand {
-    /// Go on.
-    Next,
-    /// Hand out no more records of this record's subscription (they are still framed
-    /// and counted).
-    SkipTopic,
-    /// Stop the pass.
-    Stop,
-}
-
-impl Hand {
-    /// [`Hand::Next`] when the callback said go on, else [`Hand::Stop`].
-    #[inline(always)]
-    pub(crate) fn go_on(go_on: bool) -> Hand {
-        if go_on {
-            Hand::Next
-        } else {
-            Hand::Stop
-        }
-    }
-}
+use crate::framing::{Framer, Header, Step};
+use crate::pass::keep::ScanSummary;
+use crate::pass::visit::{DataRecord, Hand, Visit};
 
 /// How a window's run of the driver ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

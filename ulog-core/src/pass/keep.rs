@@ -1,3 +1,4 @@
+//! [`ScanSummary`]: what a pass saw besides the data it handed out; and
 //! [`LogMetadata`]: what a pass ([`ScanOptions::keep_metadata`]) keeps of a log
 //! besides the data it hands out, so that one pass over a large file gives what
 //! [`ULog::parse`] gives of it but the data messages, with memory for the metadata
@@ -5,13 +6,60 @@
 //!
 //! [`ScanOptions::keep_metadata`]: crate::ScanOptions::keep_metadata
 
+use std::sync::Arc;
+
 use crate::bytes::{HEADER_SIZE, MAGIC};
 use crate::definitions::timestamp::Unwrapper;
+use crate::definitions::Subscription;
 use crate::error::ReadError;
-use crate::framing::{Framer, Header, Record};
-use crate::log::ulog::ULog;
+use crate::finding::Finding;
+use crate::framing::{FlagBits, Framer, Header, Record};
+use crate::log::span::{SpanTracker, TimeSpan};
+use crate::log::ulog::{ULog, WholeFile};
 use crate::log::utc::{GpsTime, UtcClock, UtcSamples};
-use crate::pass::driver::{DataRecord, Hand, Visit};
+use crate::pass::visit::{DataRecord, Hand, Visit};
+
+/// What a pass saw besides the data messages it handed out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanSummary {
+    /// The file header.
+    pub header: Header,
+    /// The flag bits message, when the log has one.
+    pub flag_bits: Option<FlagBits>,
+    /// Messages framed (of every type).
+    pub messages: u64,
+    /// Data messages of known subscriptions framed, handed out or not (a pass that
+    /// leaves topics out still frames and counts their messages).
+    pub data_messages: u64,
+    /// Every subscription met, in the order of their first `A` messages.
+    pub topics: Vec<Arc<Subscription>>,
+    /// What the reader found and stepped over, in file order.
+    pub findings: Vec<Finding>,
+    /// Whether the callback stopped the pass before the end of the log: the summary
+    /// then covers what was framed until then.
+    pub stopped: bool,
+    /// Everything but the data messages, with what the data says of it, when the
+    /// pass was asked to keep it ([`ScanOptions::keep_metadata`](crate::ScanOptions::keep_metadata)).
+    pub metadata: Option<LogMetadata>,
+}
+
+impl ScanSummary {
+    /// The summary of a log already parsed.
+    pub(crate) fn of(log: &ULog<'_>) -> ScanSummary {
+        ScanSummary {
+            header: log.header(),
+            flag_bits: log.flag_bits().copied(),
+            messages: log.message_count(),
+            data_messages: (0..log.subscriptions().len())
+                .map(|i| log.index(i).offsets.len() as u64)
+                .sum(),
+            topics: log.subscriptions().to_vec(),
+            findings: log.findings().to_vec(),
+            stopped: false,
+            metadata: None,
+        }
+    }
+}
 
 /// Everything a log holds but its data messages, kept by a pass with
 /// [`ScanOptions::keep_metadata`](crate::ScanOptions::keep_metadata) (in
@@ -21,7 +69,11 @@ use crate::pass::driver::{DataRecord, Hand, Visit};
 /// [`LogMetadata::log`] parses; and what [`ULog`] takes from the data for them, taken
 /// as the data went by: the time of each parameter change and dropout (the highest
 /// data timestamp before it), the [`last timestamp`](ULog::last_timestamp), the GPS
-/// times of [`ULog::utc`] and the rows of the `event` topic.
+/// times of [`ULog::utc`] and the rows of the `event` topic; and each topic
+/// instance's row count and first and last timestamps ([`LogMetadata::topics`]).
+/// With [`ScanOptions::keep_data`](crate::ScanOptions::keep_data), the data messages
+/// of the topics it names are kept too, so that the kept log reads them as a parsed
+/// log would.
 ///
 /// ```
 /// # let bytes = ulog_core::testing::sample_log();
@@ -51,7 +103,17 @@ pub struct LogMetadata {
     /// For each parameter change and dropout: its offset in `bytes` and the highest
     /// data timestamp before it (not below the header's).
     times: Vec<(u64, u64)>,
+    /// For each message kept but data messages: its offset in `bytes` and in the file.
+    places: Vec<(u64, u64)>,
     last_timestamp: u64,
+    span: TimeSpan,
+    /// Per subscription, its rows and their times.
+    topics: Vec<TopicRows>,
+    /// What framing saw of the whole file.
+    flag_bits: Option<FlagBits>,
+    subscriptions: Vec<Arc<Subscription>>,
+    findings: Vec<Finding>,
+    messages: u64,
     utc: UtcSamples,
     /// The rows of the `event` topic (instance 0): timestamp and payload.
     #[cfg(feature = "events")]
@@ -59,16 +121,55 @@ pub struct LogMetadata {
 }
 
 impl LogMetadata {
-    /// The log without its data messages, as [`ULog::parse`] reads it, but that
-    /// parameter changes and dropouts have their times in the whole log, and
-    /// [`ULog::last_timestamp`] is the whole log's. Its topics have no rows.
+    /// The log without its data messages, as [`ULog::parse`] reads it, but as the
+    /// whole file has it: parameter changes and dropouts have their times in the whole
+    /// log, messages their offsets in the file, and the [last
+    /// timestamp](ULog::last_timestamp), [flag bits](ULog::flag_bits),
+    /// [subscriptions](ULog::subscriptions), [findings](ULog::findings),
+    /// [appended sections](ULog::appended_sections) and [message
+    /// count](ULog::message_count) are the whole file's. Its topics have no rows (their
+    /// counts are in [`LogMetadata::topics`]), but those of
+    /// [`ScanOptions::keep_data`](crate::ScanOptions::keep_data), whose data messages
+    /// are read from the kept bytes ([`Topic::message_offsets`](crate::Topic::message_offsets)
+    /// are offsets in those). [`ULog::utc`] of it sees only those rows:
+    /// [`LogMetadata::utc`] is the whole log's.
     ///
     /// Errors: none for metadata a pass kept (the pass refused what parsing would);
     /// a `Result` all the same, as parsing's.
     pub fn log(&self) -> Result<ULog<'_>, ReadError> {
         let mut log = ULog::parse(&self.bytes)?;
-        log.retime(&self.times, self.last_timestamp);
+        log.restore(&WholeFile {
+            times: &self.times,
+            places: &self.places,
+            last_timestamp: self.last_timestamp,
+            flag_bits: self.flag_bits,
+            subscriptions: &self.subscriptions,
+            findings: &self.findings,
+            message_count: self.messages,
+            span: &self.span,
+        });
         Ok(log)
+    }
+
+    /// The kept log's bytes: a valid ULog file of the header and every message but
+    /// the data messages (those of [`ScanOptions::keep_data`](crate::ScanOptions::keep_data)'s
+    /// topics kept), which [`LogMetadata::log`] parses.
+    pub fn bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+
+    /// Per subscription (by [`Subscription::index`]), its data messages and their
+    /// first and last timestamps, counted as the pass went by: what [`Topic::len`]
+    /// gives of a parsed log.
+    ///
+    /// [`Topic::len`]: crate::Topic::len
+    pub fn topics(&self) -> &[TopicRows] {
+        &self.topics
+    }
+
+    /// [`ULog::span`] of the whole log, found as the data went by.
+    pub fn span(&self) -> &TimeSpan {
+        &self.span
     }
 
     /// The largest data timestamp of the log (the header's when none is larger):
@@ -99,9 +200,27 @@ impl LogMetadata {
     }
 }
 
+/// The data messages of one topic instance (subscription), counted by a pass that
+/// keeps the metadata ([`LogMetadata::topics`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct TopicRows {
+    /// Its data messages.
+    pub rows: u64,
+    /// The timestamp of its first data message (in file order), when it has one (a
+    /// topic whose format has no timestamp has none; narrow version 0 timestamps are
+    /// unwrapped).
+    pub first_timestamp: Option<u64>,
+    /// The timestamp of its last data message, in file order.
+    pub last_timestamp: Option<u64>,
+}
+
 /// What the keeping pass follows of one subscription.
 struct Sub {
     clock: Unwrapper,
+    rows: TopicRows,
+    /// Whether its data messages are kept too.
+    keep: bool,
     gps: Option<GpsTime>,
     #[cfg(feature = "events")]
     event: bool,
@@ -111,8 +230,11 @@ struct Sub {
 /// hands every data record on to `inner`.
 pub(crate) struct Keeper<'v, V: ?Sized> {
     inner: &'v mut V,
+    /// The topics whose data messages are kept.
+    keep: &'v [String],
     bytes: Vec<u8>,
     times: Vec<(u64, u64)>,
+    places: Vec<(u64, u64)>,
     /// The highest data timestamp so far: the time of a parameter change or dropout
     /// met now, by [`ULog::parse`]'s rule.
     clock: u64,
@@ -120,34 +242,42 @@ pub(crate) struct Keeper<'v, V: ?Sized> {
     /// Subscriptions whose records `inner` wants no more: still read here (their
     /// timestamps count), not handed on.
     skip: Vec<bool>,
+    /// The span, as [`ULog::parse`] finds it (made when the header is known).
+    span: Option<SpanTracker>,
     utc: UtcSamples,
     #[cfg(feature = "events")]
     events: Vec<(u64, Vec<u8>)>,
 }
 
 impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
-    pub fn new(inner: &'v mut V) -> Keeper<'v, V> {
+    pub fn new(inner: &'v mut V, keep: &'v [String]) -> Keeper<'v, V> {
         Keeper {
             inner,
+            keep,
             // The header, filled in at the end.
             bytes: vec![0; HEADER_SIZE],
             times: Vec::new(),
+            places: Vec::new(),
             clock: 0,
             subs: Vec::new(),
             skip: Vec::new(),
+            span: None,
             utc: UtcSamples::default(),
             #[cfg(feature = "events")]
             events: Vec::new(),
         }
     }
 
-    /// The metadata of the log whose header is `header`.
-    pub fn finish(self, header: Header) -> LogMetadata {
+    /// The metadata of the log whose pass saw `summary`.
+    pub fn finish(self, summary: &ScanSummary) -> LogMetadata {
+        let header = summary.header;
         let mut bytes = self.bytes;
         bytes[..MAGIC.len()].copy_from_slice(&MAGIC);
         bytes[MAGIC.len()] = header.version;
         bytes[MAGIC.len() + 1..HEADER_SIZE].copy_from_slice(&header.timestamp.to_le_bytes());
         let start = header.timestamp;
+        let mut topics: Vec<TopicRows> = self.subs.iter().map(|s| s.rows).collect();
+        topics.resize(summary.topics.len(), TopicRows::default());
         LogMetadata {
             bytes,
             times: self
@@ -155,7 +285,18 @@ impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
                 .into_iter()
                 .map(|(at, t)| (at, t.max(start)))
                 .collect(),
+            places: self.places,
             last_timestamp: self.clock.max(start),
+            span: self
+                .span
+                .filter(|s| s.header() == start)
+                .unwrap_or_else(|| SpanTracker::new(start))
+                .finish(),
+            topics,
+            flag_bits: summary.flag_bits,
+            subscriptions: summary.topics.clone(),
+            findings: summary.findings.clone(),
+            messages: summary.messages,
             utc: self.utc,
             #[cfg(feature = "events")]
             events: self.events,
@@ -174,6 +315,8 @@ impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
                     .any(|s| s.multi_id() == 0 && s.name() == sub.name());
             self.subs.push(Sub {
                 clock: Unwrapper::new(sub.timestamp_field()),
+                rows: TopicRows::default(),
+                keep: self.keep.iter().any(|k| k == sub.name()),
                 gps: if first { self.utc.gps_time(sub) } else { None },
                 #[cfg(feature = "events")]
                 event: first && sub.name() == "event",
@@ -194,6 +337,7 @@ impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
         if matches!(r.msg_type, b'P' | b'O') {
             self.times.push((self.bytes.len() as u64, self.clock));
         }
+        self.places.push((self.bytes.len() as u64, r.offset));
         let start = self.bytes.len();
         self.bytes
             .extend_from_slice(&(payload.len() as u16).to_le_bytes());
@@ -207,6 +351,17 @@ impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
     }
 }
 
+/// Appends data message `record` to the kept bytes.
+#[cold]
+fn keep_data(bytes: &mut Vec<u8>, record: &DataRecord<'_>) {
+    // Framing handed it out: its payload and msg_id fit its u16 size.
+    let size = (record.payload.len() + 2) as u16;
+    bytes.extend_from_slice(&size.to_le_bytes());
+    bytes.push(b'D');
+    bytes.extend_from_slice(&record.msg_id.to_le_bytes());
+    bytes.extend_from_slice(record.payload);
+}
+
 impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
     #[inline(always)]
     fn data(&mut self, record: DataRecord<'_>) -> Hand {
@@ -214,11 +369,22 @@ impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
         // Framing makes a subscription at its `A` message, which `other` saw.
         if let Some(sub) = self.subs.get_mut(i) {
             let time = sub.clock.push(record.payload);
+            sub.rows.rows += 1;
             if let Some(t) = time {
                 self.clock = self.clock.max(t);
+                if let Some(span) = &mut self.span {
+                    span.push(i, t, record.offset);
+                }
+                if sub.rows.first_timestamp.is_none() {
+                    sub.rows.first_timestamp = time;
+                }
+                sub.rows.last_timestamp = time;
                 if let Some(at) = sub.gps {
                     self.utc.push(at, record.payload, t);
                 }
+            }
+            if sub.keep {
+                keep_data(&mut self.bytes, &record);
             }
             // PX4 events: a few hundred small rows (time 0 where the topic has no
             // timestamp, as `ULog::events` gives it).
@@ -246,6 +412,9 @@ impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
     #[inline(always)]
     fn other(&mut self, record: &Record, payload: &[u8], framer: &Framer) -> bool {
         self.keep(record, payload);
+        if self.span.is_none() {
+            self.span = framer.header.map(|h| SpanTracker::new(h.timestamp));
+        }
         if self.subs.len() < framer.defs.subscriptions().len() {
             self.subscribed(framer);
         }

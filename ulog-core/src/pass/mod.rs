@@ -6,3 +6,4 @@ pub(crate) mod order;
 pub(crate) mod scan;
 pub(crate) mod source;
 pub(crate) mod stream;
+pub(crate) mod visit;

@@ -10,9 +10,10 @@
 use std::ops::ControlFlow;
 
 use crate::error::ReadError;
-use crate::pass::driver::{DataRecord, Hand, ScanSummary};
+use crate::pass::keep::ScanSummary;
 use crate::pass::order::time_ordered;
 use crate::pass::source::{drive, drive_keeping, Source};
+use crate::pass::visit::{DataRecord, Hand};
 
 /// The order a pass hands records out in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -50,6 +51,8 @@ pub struct ScanOptions {
     pub(crate) raw_others: bool,
     pub(crate) threads: usize,
     pub(crate) keep_metadata: bool,
+    pub(crate) keep_data: Vec<String>,
+    pub(crate) window: Option<core::ops::Range<u64>>,
 }
 
 impl Default for ScanOptions {
@@ -60,6 +63,8 @@ impl Default for ScanOptions {
             raw_others: false,
             threads: 1,
             keep_metadata: false,
+            keep_data: Vec::new(),
+            window: None,
         }
     }
 }
@@ -100,6 +105,84 @@ impl ScanOptions {
     pub fn keep_metadata(mut self, on: bool) -> ScanOptions {
         self.keep_metadata = on;
         self
+    }
+
+    /// With [`ScanOptions::keep_metadata`]: also keep the data messages of the topics
+    /// named (every instance), so that the kept log
+    /// ([`LogMetadata::log`](crate::read::LogMetadata::log)) reads them as a parsed
+    /// log would, in the memory of those topics' rows alone: a command that needs one
+    /// topic and the metadata reads a large file once, in chunks (default: none).
+    ///
+    /// ```
+    /// # let bytes = ulog_core::testing::sample_log();
+    /// use ulog_core::{ScanOptions, Source};
+    ///
+    /// let keep = ScanOptions::default().keep_metadata(true).keep_data(["esc_status"]);
+    /// let summary = ulog_core::scan(Source::reader(&bytes[..]), &keep, |_| {})?;
+    /// let metadata = summary.metadata.expect("kept when asked");
+    /// let kept = metadata.log()?;
+    /// let whole = ulog_core::ULog::parse(&bytes)?;
+    /// let rows = |log: &ulog_core::ULog<'_>| -> Vec<Vec<u8>> {
+    ///     let topic = log.topic("esc_status", 0).unwrap();
+    ///     topic.payloads().map(<[u8]>::to_vec).collect()
+    /// };
+    /// assert_eq!(rows(&kept), rows(&whole));
+    /// assert!(kept.topic("vehicle_attitude", 0)?.is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn keep_data<S: Into<String>>(
+        mut self,
+        topics: impl IntoIterator<Item = S>,
+    ) -> ScanOptions {
+        self.keep_data = topics.into_iter().map(Into::into).collect();
+        self
+    }
+
+    /// [`scan_topics`](crate::scan_topics): only the records whose timestamp is in
+    /// `[start, end)`, boot microseconds (either open; default: every record). A
+    /// record without a timestamp (its topic's format has none) has no time and is in
+    /// no window. In [`ScanOrder::Timestamp`] each topic starts at its first row at or
+    /// after `start`, found by binary search over its rows in file order (the order
+    /// the merge takes them in), and the pass ends at the first record at or after
+    /// `end`: O(log n) per topic to start, nothing read after the end. In file order
+    /// the pass still frames every message (a stream has no index to seek by) and
+    /// leaves out, undecoded, the records outside. For seconds since the start of the
+    /// log, [`TimeSpan::at`](crate::read::TimeSpan::at) gives the boot time.
+    ///
+    /// ```
+    /// # #[cfg(feature = "derive")] {
+    /// use ulog_core::read::ScanOrder;
+    /// use ulog_core::{ScanOptions, ULogMessage, ULogTopics};
+    ///
+    /// #[derive(ULogMessage)]
+    /// #[ulog(crate = "ulog_core")]
+    /// struct VehicleAttitude { timestamp: u64 }
+    /// #[derive(ULogTopics)]
+    /// #[ulog(crate = "ulog_core")]
+    /// enum Topics { Attitude(VehicleAttitude) }
+    ///
+    /// let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// // Seconds 2 to 3 of the log.
+    /// let (start, end) = (log.span().at(2.0), log.span().at(3.0));
+    /// let window = ScanOptions::default()
+    ///     .order(ScanOrder::Timestamp)
+    ///     .window_us(Some(start), Some(end));
+    /// let mut times = Vec::new();
+    /// ulog_core::scan_topics::<Topics>(&log, &window, |r| times.push(r.unwrap().timestamp.unwrap()))
+    ///     .unwrap();
+    /// assert_eq!(times.len(), 20); // 20 rows a second
+    /// assert!(times.iter().all(|t| (start..end).contains(t)));
+    /// # }
+    /// ```
+    pub fn window_us(mut self, start: Option<u64>, end: Option<u64>) -> ScanOptions {
+        self.window = Some(start.unwrap_or(0)..end.unwrap_or(u64::MAX));
+        self
+    }
+
+    /// The topics whose data a keeping pass keeps; `None` when it keeps nothing.
+    pub(crate) fn kept(&self) -> Option<&[String]> {
+        self.keep_metadata.then_some(&self.keep_data[..])
     }
 
     /// [`load_columns`](crate::load_columns): fill the columns on up to this many
@@ -180,18 +263,19 @@ where
             // Through a trait object: `f` keeps one direct call site, the plain
             // file-order loop's.
             let f: &mut dyn FnMut(DataRecord<'_>) -> R = &mut f;
-            drive_keeping(source.into(), options.read_ahead, &mut |r: DataRecord<
-                '_,
-            >| {
-                Hand::go_on(f(r).go_on())
-            })
+            drive_keeping(
+                source.into(),
+                options.read_ahead,
+                &options.keep_data,
+                &mut |r: DataRecord<'_>| Hand::go_on(f(r).go_on()),
+            )
         }
         ScanOrder::File => drive(source.into(), options.read_ahead, &mut |r: DataRecord<
             '_,
         >| {
             Hand::go_on(f(r).go_on())
         }),
-        ScanOrder::Timestamp => time_ordered(source.into(), options.keep_metadata, &mut |r, _| {
+        ScanOrder::Timestamp => time_ordered(source.into(), options.kept(), None, &mut |r, _| {
             Hand::go_on(f(r).go_on())
         }),
     }

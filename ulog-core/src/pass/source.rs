@@ -10,8 +10,10 @@ use std::path::{Path, PathBuf};
 use crate::error::ReadError;
 use crate::log::file::LogFile;
 use crate::log::ulog::ULog;
-use crate::pass::driver::{Driver, Ran, ScanSummary, Visit};
+use crate::pass::driver::{Driver, Ran};
 use crate::pass::keep::Keeper;
+use crate::pass::keep::ScanSummary;
+use crate::pass::visit::Visit;
 
 /// Where a pass ([`scan`](crate::scan), [`scan_topics`](crate::scan_topics),
 /// [`load_columns`](crate::load_columns)) reads a log from.
@@ -219,20 +221,22 @@ where
 }
 
 /// [`drive`], keeping the log's metadata as it goes by (see
-/// [`LogMetadata`](crate::read::LogMetadata)) in the summary.
+/// [`LogMetadata`](crate::read::LogMetadata)) in the summary, and the data messages
+/// of the topics named in `keep`.
 pub(crate) fn drive_keeping<F>(
     source: Source<'_>,
     read_ahead: bool,
+    keep: &[String],
     f: &mut F,
 ) -> Result<ScanSummary, ReadError>
 where
     F: Visit + ?Sized,
 {
     let mut driver = Driver::new();
-    let mut keeper = Keeper::new(f);
+    let mut keeper = Keeper::new(f, keep);
     drive_with(source, read_ahead, &mut driver, &mut keeper)?;
     let mut summary = driver.summary();
-    summary.metadata = Some(keeper.finish(summary.header));
+    summary.metadata = Some(keeper.finish(&summary));
     Ok(summary)
 }
 
@@ -463,8 +467,8 @@ fn fill_chunks<R: Read>(
 mod tests {
     use super::*;
     use crate::error::ReadErrorKind;
-    use crate::pass::driver::{DataRecord, Hand};
     use crate::pass::scan::{scan, ScanOptions};
+    use crate::pass::visit::{DataRecord, Hand};
     use crate::testing::sample_log;
 
     /// Every data message of `bytes` through the driver, `f` saying whether to hand

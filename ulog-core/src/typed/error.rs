@@ -14,7 +14,11 @@ use crate::definitions::Subscription;
 pub enum DifferenceKind {
     /// The log's format has no field of this name (nor of any alias), and the binding
     /// does not say it may be absent (`Option<T>` or `#[ulog(default)]`).
-    MissingField,
+    MissingField {
+        /// The log's field closest to the name, when one looks like a typo of it or
+        /// contains it (and no other field of the binding has that name).
+        closest: Option<String>,
+    },
     /// The field has another basic type, or is nested on one side only.
     Type {
         /// The type in the binding.
@@ -22,6 +26,9 @@ pub enum DifferenceKind {
         /// The type in the log.
         found: String,
     },
+    /// The field has another type or length in the log that a derived binding would
+    /// read (a widening), in a binding implemented by hand.
+    NotConvertible,
     /// The field is an array of another length, or an array on one side only.
     ArrayLength {
         /// The length in the binding (`None`: not an array).
@@ -50,10 +57,37 @@ impl fmt::Display for Difference {
         };
         write!(f, "field `{}`: ", self.path)?;
         match &self.kind {
-            DifferenceKind::MissingField => write!(f, "missing in the log"),
-            DifferenceKind::Type { expected, found } => {
-                write!(f, "type `{expected}` expected, the log has `{found}`")
+            DifferenceKind::MissingField { closest } => {
+                f.write_str("missing in the log")?;
+                if let Some(c) = closest {
+                    write!(
+                        f,
+                        "; did you mean `{c}`? (rename the field, or add #[ulog(alias = \"{c}\")])"
+                    )?;
+                }
+                write!(
+                    f,
+                    "; if some firmware lacks it, make it `Option<_>` or give it #[ulog(default)]"
+                )
             }
+            DifferenceKind::Type { expected, found } => {
+                write!(f, "type `{expected}` expected, the log has `{found}`")?;
+                if ulog_format::BasicType::from_name(found).is_some()
+                    && ulog_format::BasicType::from_name(expected).is_some()
+                {
+                    write!(
+                        f,
+                        " (which does not widen to it without loss: declare a conversion, \
+                         `#[ulog(convert({found} = path::to::function))]`)"
+                    )?;
+                }
+                Ok(())
+            }
+            DifferenceKind::NotConvertible => write!(
+                f,
+                "another type or length in the log, which a binding implemented by hand \
+                 cannot read (derive it)"
+            ),
             DifferenceKind::ArrayLength { expected, found } => {
                 write!(f, "{} expected, the log has {}", len(expected), len(found))
             }
@@ -193,11 +227,22 @@ pub enum TypedErrorKind {
     Mismatch(Box<Mismatch>),
     /// A payload could not be decoded (or borrowed).
     Decode(DecodeError),
+    /// The rows cannot be borrowed as the binding
+    /// ([`TypedRows::views`](crate::TypedRows::views), refused once for all rows);
+    /// they can be decoded by copy.
+    NoView {
+        /// The binding's Rust type name.
+        binding: String,
+        /// Why: the first field that is not where the log has it, or the rows that
+        /// are shorter than the binding.
+        why: String,
+    },
 }
 
-/// An error of typed reading: what, the topic instance it is about, and where in the
-/// file when there is a place (a subscription for a format that does not fit, a data
-/// message for a payload).
+/// An error of typed reading: what ([`kind`](TypedError::kind), a
+/// [`typed::TypedErrorKind`](crate::typed::TypedErrorKind) to match on), the topic
+/// instance it is about, and where in the file when there is a place (a subscription
+/// for a format that does not fit, a data message for a payload).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TypedError(Box<Inner>);
 
@@ -243,6 +288,15 @@ impl TypedError {
         TypedError::new(kind, None, None)
     }
 
+    /// Rows of `topic` that cannot be borrowed as binding `schema`, and why.
+    pub(crate) fn no_view(topic: &Subscription, schema: &super::Schema, why: String) -> TypedError {
+        let kind = TypedErrorKind::NoView {
+            binding: schema.rust_name().to_owned(),
+            why,
+        };
+        TypedError::new(kind, Some(topic), Some(topic.offset()))
+    }
+
     /// A payload of `topic`'s data message at `offset` that could not be decoded.
     #[cold]
     #[inline(never)]
@@ -250,7 +304,23 @@ impl TypedError {
         TypedError::new(TypedErrorKind::Decode(e), Some(topic), Some(offset))
     }
 
-    /// What went wrong.
+    /// What went wrong: match on
+    /// [`ulog_core::typed::TypedErrorKind`](crate::typed::TypedErrorKind).
+    ///
+    /// ```
+    /// # #[cfg(feature = "derive")] {
+    /// use ulog_core::typed::TypedErrorKind;
+    ///
+    /// #[derive(ulog_core::ULogMessage)]
+    /// #[ulog(crate = "ulog_core")]
+    /// struct VehicleAtitude { timestamp: u64 }
+    ///
+    /// let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// let Err(e) = log.read::<VehicleAtitude>(0) else { panic!("a topic of that name") };
+    /// assert!(matches!(e.kind(), TypedErrorKind::NotFound { .. }));
+    /// # }
+    /// ```
     pub fn kind(&self) -> &TypedErrorKind {
         &self.0.kind
     }
@@ -300,6 +370,10 @@ impl fmt::Display for TypedError {
             TypedErrorKind::NoLayout(e) => write!(f, "cannot be decoded: {e}"),
             TypedErrorKind::Mismatch(m) => write!(f, "{m}"),
             TypedErrorKind::Decode(e) => write!(f, "{e}"),
+            TypedErrorKind::NoView { binding, why } => write!(
+                f,
+                "its rows cannot be borrowed as `{binding}`: {why}; `iter()` decodes them by copy, and `ulog codegen --views` writes views of a log's own layouts"
+            ),
         }
     }
 }
@@ -310,7 +384,7 @@ impl std::error::Error for TypedError {
             TypedErrorKind::NoLayout(e) => Some(e),
             TypedErrorKind::Mismatch(m) => Some(&**m),
             TypedErrorKind::Decode(e) => Some(e),
-            TypedErrorKind::NotFound { .. } => None,
+            TypedErrorKind::NotFound { .. } | TypedErrorKind::NoView { .. } => None,
         }
     }
 }

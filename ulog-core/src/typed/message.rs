@@ -4,7 +4,7 @@ use ulog_format::{Layout, LeafKind};
 use zerocopy::{FromZeros, IntoBytes};
 
 use super::schema::Schema;
-use super::wire::{Present, WireField, Writable};
+use super::wire::{IsWritable, Present, WireField};
 use crate::audited::WireImage;
 use crate::value::{LogText, Value};
 
@@ -18,6 +18,18 @@ use crate::value::{LogText, Value};
 pub trait ULogMessage: WireField {
     /// The ULog message name (`vehicle_attitude`).
     const NAME: &'static str;
+
+    /// The topic's names in other firmware, tried in order after [`NAME`](Self::NAME)
+    /// wherever a binding finds its topic by name (`ULog::read`, `read_instances`,
+    /// `scan_topics`, the topic enums): `#[ulog(alias = "vehicle_gps_position")]`
+    /// on a binding named `sensor_gps`. A log that has topics under two of the names
+    /// is read under the first of them it has.
+    const ALIASES: &'static [&'static str] = &[];
+
+    /// [`NAME`](Self::NAME), then [`ALIASES`](Self::ALIASES).
+    fn names() -> impl Iterator<Item = &'static str> {
+        core::iter::once(Self::NAME).chain(Self::ALIASES.iter().copied())
+    }
 
     /// The format, nested formats and layout of the binding, built on first use.
     fn schema() -> &'static Schema;
@@ -42,10 +54,10 @@ pub trait ULogMessage: WireField {
     /// Appends the payload bytes of `self` (without trailing padding) to `out`.
     ///
     /// A binding with `Option` fields cannot be encoded (`None` has no bytes): its
-    /// `Writability` is `HasOptionFields`, not `Writable`.
+    /// `Writability` is `HasOptionFields`, not `Writable` (see [`IsWritable`]).
     fn encode_into(&self, out: &mut Vec<u8>)
     where
-        Self: WireField<Writability = Writable>,
+        <Self as WireField>::Writability: IsWritable,
     {
         let wire = self.to_wire();
         let bytes = wire.as_bytes();
@@ -56,7 +68,7 @@ pub trait ULogMessage: WireField {
     /// [`encode_into`](ULogMessage::encode_into)).
     fn encode(&self) -> Vec<u8>
     where
-        Self: WireField<Writability = Writable>,
+        <Self as WireField>::Writability: IsWritable,
     {
         let mut out = Vec::with_capacity(Self::encoded_len());
         self.encode_into(&mut out);

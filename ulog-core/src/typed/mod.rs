@@ -33,10 +33,11 @@
 //! Payload bytes are little endian on every host: each field's wire image
 //! ([`WireField::Wire`]) is a `zerocopy` little-endian type of alignment 1.
 
+mod binding;
 mod chars;
 pub(crate) mod error;
 pub(crate) mod message;
-mod plan;
+pub(crate) mod plan;
 mod plans;
 pub(crate) mod rows;
 pub(crate) mod scan;
@@ -51,9 +52,12 @@ pub use error::{
 };
 pub use message::{BindingVisitor, ViewVisitor};
 pub use plan::{Plan, PlanKind};
+pub use scan::TopicHandler;
 pub use schema::{Absent, FieldDef, FieldKind, Schema};
 pub use topics::TopicPlan;
-pub use wire::{ArrayElement, HasOptionFields, Present, WireField, Writability, Writable};
+pub use wire::{
+    ArrayElement, HasOptionFields, IsWritable, Present, WireField, Writability, Writable,
+};
 
 /// `zerocopy`'s little-endian types: fields of bindings that can be borrowed as views.
 pub use zerocopy::little_endian as le;
@@ -61,10 +65,18 @@ pub use zerocopy::little_endian as le;
 /// What generated code names; not a public API.
 #[doc(hidden)]
 pub mod __private {
+    pub use super::binding::impls as binding;
+    pub use super::binding::{format_name, Binding, Reader, SchemaCell, Writer};
+    pub use super::message::ULogMessage;
+    pub use super::schema::Schema;
+    pub use super::wire::WireField;
     pub use super::wire::{
-        array_sources, read, read_array, read_array_source, read_source, visit_array, visit_chars,
-        visit_field, wire_size, write, write_array,
+        array_sources, read, read_array, read_array_source, read_declared, read_declared_array,
+        read_source, visit_array, visit_chars, visit_field, wire_size, write, write_array,
+        Converted, Widened,
     };
+    pub use crate::__binding_impls as binding_impls;
+    pub use crate::audited::WireImage;
     pub use crate::value::Value;
     pub use std::sync::OnceLock;
     pub use ulog_format::{BasicType, Layout};

@@ -10,13 +10,13 @@
 use core::fmt;
 use core::marker::PhantomData;
 
-use ulog_format::{Layout, LayoutField, LayoutType};
-use zerocopy::{FromBytes, FromZeros, IntoBytes};
+use ulog_format::{BasicType, Layout, LayoutField, LayoutType};
+use zerocopy::{FromZeros, IntoBytes};
 
 use super::error::{DecodeError, DecodeErrorKind, Difference, DifferenceKind, Mismatch};
 use super::message::ULogMessage;
 use super::schema::{Absent, FieldDef, FieldKind, Schema};
-use super::wire::{Present, WireField, NOWHERE};
+use super::wire::{Converted, Present, WireField, NOWHERE};
 use crate::audited::WireImage;
 
 /// How a plan decodes.
@@ -63,6 +63,28 @@ pub(crate) struct RawPlan {
     why: Option<String>,
 }
 
+/// What a plan needs of a binding's type.
+pub(crate) struct BindingOf {
+    schema: &'static Schema,
+    direct: bool,
+    sources: usize,
+    optional: usize,
+    own: usize,
+}
+
+impl BindingOf {
+    #[inline]
+    pub(crate) fn of<T: ULogMessage>() -> BindingOf {
+        BindingOf {
+            schema: T::schema(),
+            direct: T::DIRECT,
+            sources: T::SOURCES,
+            optional: T::OPTIONAL,
+            own: core::mem::size_of::<T::Wire>(),
+        }
+    }
+}
+
 /// What the walk over a binding's fields collects.
 struct Walk {
     sources: Vec<u32>,
@@ -70,19 +92,38 @@ struct Walk {
     differences: Vec<Difference>,
     present: Vec<bool>,
     why: Option<String>,
+    /// The fields read in another type or length than the log's ([`Converted`]).
+    converted: Vec<String>,
 }
 
 impl RawPlan {
     pub(crate) fn new<T: ULogMessage>(file: &Layout) -> Result<RawPlan, Mismatch> {
-        let schema = T::schema();
+        RawPlan::build(&BindingOf::of::<T>(), file)
+    }
+
+    /// [`RawPlan::new`] past what depends on the binding's type: the one copy of it
+    /// in a program, however many bindings it plans.
+    pub(crate) fn build(binding: &BindingOf, file: &Layout) -> Result<RawPlan, Mismatch> {
+        let schema = binding.schema;
         let mut walk = Walk {
             sources: Vec::new(),
             copies: Vec::new(),
             differences: Vec::new(),
             present: Vec::new(),
             why: None,
+            converted: Vec::new(),
         };
         map_fields(schema, file, "", 0, 0, &mut walk);
+        if !binding.direct {
+            // A binding implemented by hand is decoded through its wire image, a copy
+            // of the log's bytes: it reads no converted field.
+            for path in walk.converted.drain(..) {
+                walk.differences.push(Difference {
+                    path,
+                    kind: DifferenceKind::NotConvertible,
+                });
+            }
+        }
         if !walk.differences.is_empty() {
             return Err(Mismatch {
                 message: schema.name().to_owned(),
@@ -92,8 +133,8 @@ impl RawPlan {
                 found_formats: file.formats().iter().map(|f| f.to_string()).collect(),
             });
         }
-        debug_assert_eq!(walk.present.len(), T::OPTIONAL, "presence slots");
-        let own = core::mem::size_of::<T::Wire>();
+        debug_assert_eq!(walk.present.len(), binding.optional, "presence slots");
+        let own = binding.own;
         if walk.why.is_none() && own > file.size() {
             walk.why = Some(format!(
                 "the binding has {own} bytes, the log's format {}",
@@ -115,11 +156,11 @@ impl RawPlan {
         // A derived binding counts its offsets as the walk does; one implemented by
         // hand is decoded through its wire image.
         debug_assert!(
-            !T::DIRECT || walk.sources.len() == T::SOURCES,
+            !binding.direct || walk.sources.len() == binding.sources,
             "payload offsets of `{}`",
             schema.rust_name()
         );
-        let direct = T::DIRECT && walk.sources.len() == T::SOURCES;
+        let direct = binding.direct && walk.sources.len() == binding.sources;
         Ok(RawPlan {
             direct,
             sources: walk.sources.into_boxed_slice(),
@@ -161,16 +202,15 @@ impl RawPlan {
 
     #[inline(always)]
     pub(crate) fn decode<T: WireField>(&self, payload: &[u8]) -> Result<T, DecodeError> {
-        let payload = self.format_bytes(payload);
-        let len = payload.len();
-        if len != self.size && len != self.min_size {
-            return Err(self.length_error(len));
+        if T::READS_IMAGE {
+            return self.decode_image::<T>(payload);
         }
+        let payload = self.checked(payload)?;
         if self.kind == PlanKind::Exact {
             if let Some(image) = payload.get(..self.own) {
-                return match T::Wire::ref_from_bytes(image) {
-                    Ok(wire) => Ok(T::from_wire(wire, self.present())),
-                    Err(_) => Err(self.length_error(len)),
+                return match T::from_image(image, self.present()) {
+                    Some(value) => Ok(value),
+                    None => Err(self.length_error(payload.len())),
                 };
             }
         }
@@ -178,22 +218,90 @@ impl RawPlan {
             return Ok(T::from_payload(payload, &self.sources, self.present()));
         }
         let mut wire = T::Wire::new_zeroed();
-        let image = wire.as_mut_bytes();
+        self.fill_wire(payload, wire.as_mut_bytes())?;
+        Ok(T::from_wire(&wire, self.present()))
+    }
+
+    /// [`decode`](RawPlan::decode) of a binding read only through its wire image:
+    /// one call of its code, the image the payload's prefix or filled here.
+    #[inline(always)]
+    fn decode_image<T: WireField>(&self, payload: &[u8]) -> Result<T, DecodeError> {
+        let mut wire;
+        let image = match self.exact_image(payload)? {
+            Some(image) => image,
+            None => {
+                wire = T::Wire::new_zeroed();
+                let image = wire.as_mut_bytes();
+                self.fill_image(payload, image, T::KIND)?;
+                &*image
+            }
+        };
+        match T::from_image(image, self.present()) {
+            Some(value) => Ok(value),
+            None => Err(self.length_error(payload.len())),
+        }
+    }
+
+    /// The payload's prefix that is the binding's wire image (an exact plan); `None`
+    /// when the image is to be filled ([`fill_image`](RawPlan::fill_image)).
+    fn exact_image<'p>(&self, payload: &'p [u8]) -> Result<Option<&'p [u8]>, DecodeError> {
+        let payload = self.checked(payload)?;
+        Ok(match self.kind {
+            PlanKind::Exact => payload.get(..self.own),
+            PlanKind::Mapped => None,
+        })
+    }
+
+    /// Fills a binding's wire image (zeros) from a payload: by the payload offsets
+    /// and the table of the binding's schema (`kind`) when the plan reads offsets,
+    /// else by its copies.
+    fn fill_image(
+        &self,
+        payload: &[u8],
+        image: &mut [u8],
+        kind: FieldKind,
+    ) -> Result<(), DecodeError> {
+        let payload = self.checked(payload)?;
+        match kind {
+            FieldKind::Nested(schema) if self.direct => {
+                super::binding::fill_image(schema(), payload, &self.sources, image);
+                Ok(())
+            }
+            _ => self.fill_wire(payload, image),
+        }
+    }
+
+    /// The bytes of `payload` that its format describes, when its length is the
+    /// format's (with or without trailing padding).
+    #[inline]
+    fn checked<'p>(&self, payload: &'p [u8]) -> Result<&'p [u8], DecodeError> {
+        let payload = self.format_bytes(payload);
+        let len = payload.len();
+        if len != self.size && len != self.min_size {
+            return Err(self.length_error(len));
+        }
+        Ok(payload)
+    }
+
+    /// Fills a binding's wire image (zeros) from a payload of the right length, for a
+    /// binding decoded through its image: the payload's prefix (an exact plan whose
+    /// binding declares trailing padding the payload leaves out), else the copies.
+    fn fill_wire(&self, payload: &[u8], image: &mut [u8]) -> Result<(), DecodeError> {
+        let len = payload.len();
         if self.kind == PlanKind::Exact {
-            // The binding declares trailing padding the payload leaves out.
             let n = len.min(image.len());
             image[..n].copy_from_slice(&payload[..n]);
-        } else {
-            for c in self.copies.iter() {
-                let src = payload.get(c.src..c.src + c.len);
-                let dst = image.get_mut(c.dst..c.dst + c.len);
-                match (src, dst) {
-                    (Some(src), Some(dst)) => copy_field(dst, src),
-                    _ => return Err(self.length_error(len)),
-                }
+            return Ok(());
+        }
+        for c in self.copies.iter() {
+            let src = payload.get(c.src..c.src + c.len);
+            let dst = image.get_mut(c.dst..c.dst + c.len);
+            match (src, dst) {
+                (Some(src), Some(dst)) => copy_field(dst, src),
+                _ => return Err(self.length_error(len)),
             }
         }
-        Ok(T::from_wire(&wire, self.present()))
+        Ok(())
     }
 
     /// The bytes of a payload that its format describes: all of them, but for a data
@@ -215,26 +323,26 @@ impl RawPlan {
                 "a view needs a binding whose memory is its wire image: fields of `u8`, `i8`, `CharArray<N>`, `ulog_core::typed::le` types, arrays and nested such bindings (no `bool`, no `Option`)"
             )
         };
-        let payload = self.format_bytes(payload);
-        let len = payload.len();
-        if len != self.size && len != self.min_size {
-            return Err(self.length_error(len));
-        }
+        let payload = self.checked(payload)?;
+        self.viewable(payload.len(), core::mem::size_of::<T>())?;
+        Ok(crate::audited::view::<T>(payload))
+    }
+
+    /// Whether a payload of `len` bytes can be borrowed as a binding of `needed`.
+    fn viewable(&self, len: usize, needed: usize) -> Result<(), DecodeError> {
         if let Some(why) = &self.why {
             return Err(DecodeError {
                 kind: DecodeErrorKind::ViewNeedsExactLayout { why: why.clone() },
                 len,
             });
         }
-        if len < core::mem::size_of::<T>() {
+        if len < needed {
             return Err(DecodeError {
-                kind: DecodeErrorKind::ViewNeedsLongerPayload {
-                    needed: core::mem::size_of::<T>(),
-                },
+                kind: DecodeErrorKind::ViewNeedsLongerPayload { needed },
                 len,
             });
         }
-        Ok(crate::audited::view::<T>(payload))
+        Ok(())
     }
 }
 
@@ -298,7 +406,9 @@ fn map_fields(
             } else {
                 walk.differences.push(Difference {
                     path,
-                    kind: DifferenceKind::MissingField,
+                    kind: DifferenceKind::MissingField {
+                        closest: closest_unbound(def.name(), schema, file),
+                    },
                 });
             }
             continue;
@@ -315,6 +425,19 @@ fn map_fields(
             });
         }
         let lengths_agree = own.array_len == theirs.array_len;
+        if let (LayoutType::Basic(mine), LayoutType::Basic(log)) = (&own.ty, &theirs.ty) {
+            if *mine == *log && lengths_agree {
+                walk.sources.push(u32::try_from(from).unwrap_or(NOWHERE));
+                walk.copies.push(CopyOp {
+                    src: from,
+                    dst: to,
+                    len: own.size,
+                });
+            } else {
+                convert_basic(def, own, theirs, *mine, *log, from, &path, walk);
+            }
+            continue;
+        }
         if !lengths_agree {
             walk.differences.push(Difference {
                 path: path.clone(),
@@ -325,16 +448,6 @@ fn map_fields(
             });
         }
         match (&own.ty, &theirs.ty, def.kind()) {
-            (LayoutType::Basic(a), LayoutType::Basic(b), _) if a == b => {
-                walk.sources.push(u32::try_from(from).unwrap_or(NOWHERE));
-                if lengths_agree {
-                    walk.copies.push(CopyOp {
-                        src: from,
-                        dst: to,
-                        len: own.size,
-                    });
-                }
-            }
             (LayoutType::Nested(mine), LayoutType::Nested(other), FieldKind::Nested(nested)) => {
                 // The elements are compared whatever the lengths, so that every
                 // difference inside them is listed too.
@@ -348,18 +461,28 @@ fn map_fields(
                     differences: Vec::new(),
                     present: Vec::new(),
                     why: None,
+                    converted: Vec::new(),
                 };
                 map_fields(nested(), other, &inner_prefix, 0, 0, &mut inner);
                 walk.differences.append(&mut inner.differences);
+                walk.converted.append(&mut inner.converted);
                 walk.present.append(&mut inner.present);
                 if let Some(why) = inner.why {
                     walk.why.get_or_insert(why);
                 }
                 for i in 0..own.array_len.unwrap_or(1) {
                     let base = from + i * other.size();
-                    walk.sources.extend(inner.sources.iter().map(|&s| match s {
-                        NOWHERE => s,
-                        s => u32::try_from(base + s as usize).unwrap_or(NOWHERE),
+                    walk.sources.extend(inner.sources.iter().map(|&s| {
+                        match (s, Converted::unpack(s)) {
+                            (NOWHERE, _) => s,
+                            (_, Some(c)) => Converted {
+                                at: base + c.at,
+                                ..c
+                            }
+                            .pack()
+                            .unwrap_or(NOWHERE),
+                            _ => u32::try_from(base + s as usize).unwrap_or(NOWHERE),
+                        }
                     }));
                 }
                 if lengths_agree {
@@ -390,6 +513,90 @@ fn map_fields(
                     found: b.name().to_owned(),
                 },
             }),
+        }
+    }
+}
+
+/// The field of the log's format `file` closest to `name` (a field of `schema` that
+/// the log lacks), among those no field of `schema` reads by name or alias.
+fn closest_unbound(name: &str, schema: &Schema, file: &Layout) -> Option<String> {
+    let bound = |n: &str| {
+        schema
+            .fields()
+            .iter()
+            .any(|d| d.name() == n || d.aliases().contains(&n))
+    };
+    let unbound = file
+        .fields()
+        .iter()
+        .filter(|f| !f.is_padding() && !bound(&f.name))
+        .map(|f| f.name.as_str());
+    crate::suggest::closest(name, unbound)
+}
+
+/// A basic field the log holds in another type or array length than the binding:
+/// read through a [`Converted`] offset when every value of the log's converts
+/// exactly (a [widening](ulog_format::BasicType::widens_to), or a conversion the
+/// field declares, `#[ulog(convert(…))]`) and a log array is no longer than the
+/// binding's (the binding's further elements are zeros); else a difference. `char`
+/// strings and `bool`s take no other type.
+#[allow(clippy::too_many_arguments)]
+fn convert_basic(
+    def: &FieldDef,
+    own: &LayoutField,
+    theirs: &LayoutField,
+    mine: BasicType,
+    log: BasicType,
+    from: usize,
+    path: &str,
+    walk: &mut Walk,
+) {
+    let declared = def.converts().contains(&log);
+    let type_ok = mine != BasicType::Char
+        && (log == mine || (mine != BasicType::Bool && log.widens_to(mine)) || declared);
+    let length_ok = match (own.array_len, theirs.array_len) {
+        (a, b) if a == b => true,
+        (Some(a), Some(b)) => b <= a && mine != BasicType::Char,
+        _ => false,
+    };
+    let packed = Converted {
+        at: from,
+        ty: log,
+        len: theirs.array_len,
+    }
+    .pack();
+    match packed {
+        Some(source) if type_ok && length_ok => {
+            walk.sources.push(source);
+            walk.converted.push(path.to_owned());
+            walk.why
+                .get_or_insert_with(|| match (log == mine, own.array_len, theirs.array_len) {
+                    (true, Some(a), Some(b)) => {
+                        format!("field `{path}` has {b} elements in the log, {a} in the binding")
+                    }
+                    _ => format!("field `{path}` is `{log}` in the log, `{mine}` in the binding"),
+                });
+        }
+        _ => {
+            walk.sources.push(NOWHERE);
+            if !length_ok {
+                walk.differences.push(Difference {
+                    path: path.to_owned(),
+                    kind: DifferenceKind::ArrayLength {
+                        expected: own.array_len,
+                        found: theirs.array_len,
+                    },
+                });
+            }
+            if !type_ok {
+                walk.differences.push(Difference {
+                    path: path.to_owned(),
+                    kind: DifferenceKind::Type {
+                        expected: mine.name().to_owned(),
+                        found: log.name().to_owned(),
+                    },
+                });
+            }
         }
     }
 }
@@ -476,10 +683,15 @@ impl<T: ULogMessage> Plan<T> {
     /// `T` says the field may be absent (`Option<F>`, `#[ulog(default)]`). Otherwise
     /// the error lists every difference.
     pub fn new(file_layout: &Layout) -> Result<Plan<T>, Mismatch> {
-        RawPlan::new::<T>(file_layout).map(|raw| Plan {
+        RawPlan::new::<T>(file_layout).map(Plan::from_raw)
+    }
+
+    /// The plan made by [`RawPlan::new`] for `T`.
+    pub(crate) fn from_raw(raw: RawPlan) -> Plan<T> {
+        Plan {
             raw,
             binding: PhantomData,
-        })
+        }
     }
 
     /// Exact or mapped.

@@ -7,7 +7,7 @@ use crate::log::ulog::ULog;
 
 use super::error::TypedError;
 use super::message::ULogMessage;
-use super::plan::Plan;
+use super::plan::{BindingOf, Plan, RawPlan};
 use crate::audited::WireImage;
 
 /// The rows of one topic instance decoded into `T` (see [`ULog::read`]).
@@ -59,46 +59,105 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
         })
     }
 
-    /// Every row borrowed in place as `&T`, without a copy.
+    /// Every row borrowed in place as `&T`, without a copy; refused once, with the
+    /// reason, when the rows cannot be borrowed as `T`
+    /// ([`TypedErrorKind::NoView`](super::TypedErrorKind::NoView)).
     ///
     /// `T` must be a binding whose memory is its wire image: derive it with
     /// `#[ulog(view)]` and `#[repr(C)]` (Rust would reorder the fields otherwise), with
     /// fields of `u8`, `i8`, [`CharArray<N>`](super::CharArray), the [`le`](super::le)
     /// little-endian types (`le::U64`, `le::F32`, …), arrays of these, and nested such
-    /// bindings (the derive checks it at compile time). And
-    /// each row's payload must hold `T` where the log has it
-    /// ([`PlanKind::Exact`](super::PlanKind::Exact)): the fields in the log's order,
-    /// and no trailing padding that the log's writer left out (PX4 never writes it:
-    /// leave the trailing `_paddingN` out of the struct). A row that cannot be
-    /// borrowed is an error saying why.
+    /// bindings (the derive checks it at compile time).
+    ///
+    /// And `T` must be the log's layout ([`PlanKind::Exact`](super::PlanKind::Exact)):
+    /// the log's fields in the log's order from the first one, the padding between
+    /// them included, each of the log's type and length; the fields after the last
+    /// one `T` needs may be left out, and the trailing padding should be (PX4 never
+    /// writes it: rows without it are refused for a `T` that declares it). A hand-written view therefore borrows the logs of the firmware
+    /// whose format it copies (and of any firmware that only adds fields after its
+    /// last one); on another layout (a field added before, moved or retyped, as
+    /// between PX4 releases) it is refused and [`iter`](TypedRows::iter) decodes the
+    /// rows by copy. `ulog codegen --views` and `ulog_module!(views; …)` write views
+    /// from a log's own formats. Each row is an `Ok` on a log this reader parsed.
     ///
     /// ```
     /// # #[cfg(feature = "derive")] {
-    /// use ulog_core::typed::le;
+    /// use ulog_core::typed::{le, TypedErrorKind};
     ///
+    /// // `vehicle_attitude` as PX4 logs it from v1.13 on: the log's fields in the
+    /// // log's order, up to `q`, which is all this view needs.
     /// #[derive(ulog_core::ULogMessage)]
     /// #[ulog(crate = "ulog_core", view)]
     /// #[repr(C)]
-    /// struct VehicleAttitude { timestamp: le::U64, q: [le::F32; 4] }
+    /// struct VehicleAttitude { timestamp: le::U64, timestamp_sample: le::U64, q: [le::F32; 4] }
     ///
-    /// let bytes = ulog_core::testing::sample_log();
-    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// // A log as PX4 v1.13 and later write it (without the trailing padding).
+    /// let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    /// b.format("vehicle_attitude:uint64_t timestamp;uint64_t timestamp_sample;float[4] q;\
+    ///           float[4] delta_q_reset;uint8_t quat_reset_counter;uint8_t[7] _padding0;");
+    /// b.subscribe(0, 0, "vehicle_attitude");
+    /// let mut payload = [1000u64.to_le_bytes(), 990u64.to_le_bytes()].concat();
+    /// for x in [1.0f32, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0] {
+    ///     payload.extend(x.to_le_bytes());
+    /// }
+    /// payload.push(0); // quat_reset_counter
+    /// b.data(0, &payload);
+    /// let log = ulog_core::ULog::parse(b.bytes()).unwrap();
     /// let rows = log.read::<VehicleAttitude>(0).unwrap();
-    /// let first: &VehicleAttitude = rows.views().next().unwrap().unwrap();
+    /// let first: &VehicleAttitude = rows.views().unwrap().next().unwrap().unwrap();
     /// assert_eq!(first.q[0].get(), 1.0);
+    ///
+    /// // Without `timestamp_sample` the binding is not that layout (its `q` is at byte
+    /// // 8, the log's at 16): refused once, with the reason; `iter()` still decodes it.
+    /// #[derive(ulog_core::ULogMessage)]
+    /// #[ulog(crate = "ulog_core", name = "vehicle_attitude", view)]
+    /// #[repr(C)]
+    /// struct Quaternion { timestamp: le::U64, q: [le::F32; 4] }
+    ///
+    /// let rows = log.read::<Quaternion>(0).unwrap();
+    /// let Err(e) = rows.views() else { panic!("borrowed") };
+    /// assert!(matches!(e.kind(), TypedErrorKind::NoView { .. }));
+    /// assert_eq!(rows.iter().next().unwrap().unwrap().q[0].get(), 1.0);
     /// # }
     /// ```
-    pub fn views(&self) -> impl ExactSizeIterator<Item = Result<&'a T, TypedError>> + '_
+    pub fn views(
+        &self,
+    ) -> Result<impl ExactSizeIterator<Item = Result<&'a T, TypedError>> + '_, TypedError>
     where
         T: WireImage + 'a,
     {
+        self.can_borrow()?;
         let offsets = self.topic.message_offsets();
         let topic = self.topic.subscription();
-        self.topic.payloads().zip(offsets).map(move |(p, o)| {
+        Ok(self.topic.payloads().zip(offsets).map(move |(p, o)| {
             self.plan
                 .view(p)
                 .map_err(|e| TypedError::decode(topic, o, e))
-        })
+        }))
+    }
+
+    /// Whether every row can be borrowed as `T`: an exact plan, and no row shorter
+    /// than `T` (a binding that declares trailing padding the log's writer left out).
+    fn can_borrow(&self) -> Result<(), TypedError> {
+        let sub = self.topic.subscription();
+        let refuse = |why: String| Err(TypedError::no_view(sub, T::schema(), why));
+        if let Some(why) = self.plan.why_mapped() {
+            return refuse(format!(
+                "{why}, so the binding is not the log's layout (a view has the log's fields in its order from the first one, with the padding between them)"
+            ));
+        }
+        let own = core::mem::size_of::<T>();
+        let min_size = sub.layout().map_or(0, |l| l.min_size());
+        if own > min_size {
+            let short = self.topic.payloads().filter(|p| p.len() < own).count();
+            if short > 0 {
+                return refuse(format!(
+                    "{short} of {} rows have fewer bytes than the binding's {own}: leave the trailing padding (that the log's writer left out) out of the binding",
+                    self.len()
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -106,10 +165,21 @@ impl<'l, 'a> Topic<'l, 'a> {
     /// The topic's rows decoded into `T`, its format checked against `T` once: an
     /// error lists every difference.
     pub fn read<T: ULogMessage>(&self) -> Result<TypedRows<'l, 'a, T>, TypedError> {
+        let raw = self.plan(&BindingOf::of::<T>())?;
+        Ok(TypedRows {
+            topic: *self,
+            plan: Plan::from_raw(raw),
+        })
+    }
+
+    /// The plan of this topic for a binding: what [`read`](Topic::read) does past
+    /// what depends on the binding's type.
+    fn plan(&self, binding: &BindingOf) -> Result<RawPlan, TypedError> {
         let sub = self.subscription();
-        let layout = sub.layout().map_err(|e| TypedError::no_layout(sub, e))?;
-        let plan = Plan::new(layout).map_err(|m| TypedError::mismatch(sub, m))?;
-        Ok(TypedRows { topic: *self, plan })
+        match sub.layout() {
+            Ok(layout) => RawPlan::build(binding, layout).map_err(|m| TypedError::mismatch(sub, m)),
+            Err(e) => Err(TypedError::no_layout(sub, e)),
+        }
     }
 }
 
@@ -136,15 +206,10 @@ impl<'a> ULog<'a> {
     /// # }
     /// ```
     pub fn read<T: ULogMessage>(&self, multi_id: u8) -> Result<TypedRows<'_, 'a, T>, TypedError> {
-        match self
-            .topics()
-            .find(|t| t.name() == T::NAME && t.multi_id() == multi_id)
-        {
-            Some(topic) => topic.read(),
-            None => {
-                let missing = TopicNotFound::in_log(self, T::NAME, Some(multi_id));
-                Err(TypedError::not_found(missing, T::schema()))
-            }
+        let found = self.find_topic(T::NAME, T::ALIASES, multi_id);
+        match found {
+            Ok(topic) => topic.read(),
+            Err(missing) => Err(TypedError::not_found(missing, T::schema())),
         }
     }
 
@@ -154,11 +219,79 @@ impl<'a> ULog<'a> {
     pub fn read_instances<T: ULogMessage>(
         &self,
     ) -> Result<Vec<Result<TypedRows<'_, 'a, T>, TypedError>>, TypedError> {
-        let instances = self.topic_instances(T::NAME);
-        if instances.is_empty() {
-            let missing = TopicNotFound::in_log(self, T::NAME, None);
-            return Err(TypedError::not_found(missing, T::schema()));
+        let instances = match self.instances_of(T::NAME, T::ALIASES) {
+            Ok(found) => found,
+            Err(missing) => return Err(TypedError::not_found(missing, T::schema())),
+        };
+        let binding = BindingOf::of::<T>();
+        let mut out = Vec::with_capacity(instances.len());
+        for topic in instances {
+            out.push(match topic.plan(&binding) {
+                Ok(raw) => Ok(TypedRows {
+                    topic,
+                    plan: Plan::from_raw(raw),
+                }),
+                Err(e) => Err(e),
+            });
         }
-        Ok(instances.iter().map(Topic::read).collect())
+        Ok(out)
+    }
+
+    /// Instance `multi_id` of the first of `name` and `aliases` the log has it under,
+    /// or what the log has instead.
+    fn find_topic(
+        &self,
+        name: &'static str,
+        aliases: &'static [&'static str],
+        multi_id: u8,
+    ) -> Result<Topic<'_, 'a>, TopicNotFound> {
+        let names = core::iter::once(name).chain(aliases.iter().copied());
+        for name in names {
+            if let Some(t) = self
+                .topics()
+                .find(|t| t.name() == name && t.multi_id() == multi_id)
+            {
+                return Ok(t);
+            }
+        }
+        Err(self.missing(name, aliases, Some(multi_id)))
+    }
+
+    /// Every instance of the first of `name` and `aliases` the log has, or what the
+    /// log has instead.
+    fn instances_of(
+        &self,
+        name: &'static str,
+        aliases: &'static [&'static str],
+    ) -> Result<Vec<Topic<'_, 'a>>, TopicNotFound> {
+        let names = core::iter::once(name).chain(aliases.iter().copied());
+        for name in names {
+            let found = self.topic_instances(name);
+            if !found.is_empty() {
+                return Ok(found);
+            }
+        }
+        Err(self.missing(name, aliases, None))
+    }
+
+    /// What the log has instead of the topic `name` (also known as `aliases`): the
+    /// instances of the first of its names the log has, else the closest names to its
+    /// own, its aliases said.
+    fn missing(
+        &self,
+        name: &'static str,
+        aliases: &'static [&'static str],
+        multi_id: Option<u8>,
+    ) -> TopicNotFound {
+        let has = |name: &&str| !self.topic_instances(name).is_empty();
+        let mut names = core::iter::once(name).chain(aliases.iter().copied());
+        match names.find(has) {
+            Some(name) => TopicNotFound::in_log(self, name, multi_id),
+            None => {
+                let mut missing = TopicNotFound::in_log(self, name, multi_id);
+                missing.aliases = aliases.iter().map(|a| (*a).to_owned()).collect();
+                missing
+            }
+        }
     }
 }

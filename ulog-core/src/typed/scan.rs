@@ -1,13 +1,16 @@
 //! [`scan_topics`]: several topics of a log decoded into a [`ULogTopics`] enum in one
 //! pass, in file order or by timestamp.
 
+use std::ops::Range;
+
 use crate::definitions::timestamp::Unwrapper;
 use crate::definitions::Subscription;
 use crate::error::ReadError;
-use crate::pass::driver::{DataRecord, Hand, ScanSummary};
+use crate::pass::keep::ScanSummary;
 use crate::pass::order::time_ordered;
 use crate::pass::scan::{ScanFlow, ScanOptions, ScanOrder};
 use crate::pass::source::{drive, drive_keeping, Source};
+use crate::pass::visit::{DataRecord, Hand};
 
 use super::error::TypedError;
 use super::plans::Plans;
@@ -64,7 +67,7 @@ pub struct TopicRecord<'r, E> {
 /// let bytes = ulog_core::testing::sample_log();
 /// let (mut norms, mut last_time) = (Vec::new(), 0);
 /// let by_time = ScanOptions::default().order(ScanOrder::Timestamp);
-/// ulog_core::scan_topics::<Topics, _, _>(&bytes, &by_time, |record| {
+/// ulog_core::scan_topics::<Topics>(&bytes, &by_time, |record| {
 ///     let record = record.unwrap();
 ///     assert!(record.timestamp.unwrap() >= last_time);
 ///     last_time = record.timestamp.unwrap();
@@ -77,8 +80,32 @@ pub struct TopicRecord<'r, E> {
 /// assert_eq!(norms.len(), log.topic("vehicle_attitude", 0).unwrap().len());
 /// # }
 /// ```
-pub fn scan_topics<'s, E, F, R>(
+pub fn scan_topics<'s, E: ULogTopics>(
     source: impl Into<Source<'s>>,
+    options: &ScanOptions,
+    f: impl TopicHandler<E>,
+) -> Result<ScanSummary, ReadError> {
+    scan_with(source.into(), options, f)
+}
+
+/// What [`scan_topics`] hands its records to: any
+/// `FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R` where `R` is `()` or a
+/// [`ControlFlow`](std::ops::ControlFlow) ([`ScanFlow`]). A trait of its own so that a
+/// call names only the enum: `scan_topics::<Topics>(…)`.
+pub trait TopicHandler<E>:
+    FnMut(Result<TopicRecord<'_, E>, TypedError>) -> <Self as TopicHandler<E>>::Flow
+{
+    /// What the closure returns.
+    type Flow: ScanFlow;
+}
+
+impl<E, R: ScanFlow, F: FnMut(Result<TopicRecord<'_, E>, TypedError>) -> R> TopicHandler<E> for F {
+    type Flow = R;
+}
+
+/// [`scan_topics`], with the closure's type and return type named.
+fn scan_with<E, F, R>(
+    source: Source<'_>,
     options: &ScanOptions,
     mut f: F,
 ) -> Result<ScanSummary, ReadError>
@@ -89,31 +116,37 @@ where
 {
     let mut plans = Plans::<E>::new();
     let raw_others = options.raw_others;
+    let window = options.window.clone();
     match options.order {
         ScanOrder::File if options.keep_metadata => {
             // Through a trait object, as below: the plain file-order loop keeps the
             // one direct call site of `f`.
             let f: &mut dyn Handler<E, R> = &mut f;
-            drive_keeping(source.into(), options.read_ahead, &mut |r: DataRecord<
-                '_,
-            >| {
-                hand(&mut plans, raw_others, f, &r, |u| u.push(r.payload))
-            })
+            drive_keeping(
+                source,
+                options.read_ahead,
+                &options.keep_data,
+                &mut |r: DataRecord<'_>| {
+                    hand(&mut plans, raw_others, &window, f, &r, |u| {
+                        u.push(r.payload)
+                    })
+                },
+            )
         }
         ScanOrder::File => {
-            drive(source.into(), options.read_ahead, &mut |r: DataRecord<
-                '_,
-            >| {
+            drive(source, options.read_ahead, &mut |r: DataRecord<'_>| {
                 // Each subscription's timestamps, unwrapped as its records come.
-                hand(&mut plans, raw_others, &mut f, &r, |u| u.push(r.payload))
+                hand(&mut plans, raw_others, &window, &mut f, &r, |u| {
+                    u.push(r.payload)
+                })
             })
         }
         ScanOrder::Timestamp => {
             // Through a trait object: `f` keeps one direct call site (the file-order
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
-            time_ordered(source.into(), options.keep_metadata, &mut |r, t| {
-                hand(&mut plans, raw_others, f, &r, |_| t)
+            time_ordered(source, options.kept(), window.clone(), &mut |r, t| {
+                hand(&mut plans, raw_others, &window, f, &r, |_| t)
             })
         }
     }
@@ -128,6 +161,7 @@ where
 fn hand<E, F, R>(
     plans: &mut Plans<E>,
     raw_others: bool,
+    window: &Option<Range<u64>>,
     f: &mut F,
     r: &DataRecord<'_>,
     time: impl FnOnce(&mut Unwrapper) -> Option<u64>,
@@ -144,6 +178,11 @@ where
         Ok(plan) => plan,
         Err(e) => return unfit(e, r, timestamp, raw_others, f),
     };
+    if let Some(w) = window {
+        if !timestamp.is_some_and(|t| w.contains(&t)) {
+            return Hand::Next;
+        }
+    }
     let item = match plan {
         Some(plan) => match E::decode(plan, r.payload) {
             Ok(message) => Ok(record(r, timestamp, Some(message))),

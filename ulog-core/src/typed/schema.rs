@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use ulog_format::{BasicType, Field, Format, Layout, TypeName};
+use ulog_format::{BasicType, Field, Format, Layout, LayoutType, TypeName};
 
 /// The ULog type of one value of a field: a basic type, or a nested message.
 #[derive(Debug, Clone, Copy)]
@@ -32,6 +32,7 @@ pub struct FieldDef {
     kind: FieldKind,
     array_len: Option<usize>,
     absent: Absent,
+    converts: &'static [BasicType],
 }
 
 impl FieldDef {
@@ -49,7 +50,21 @@ impl FieldDef {
             kind,
             array_len,
             absent: Absent::Required,
+            converts: &[],
         }
+    }
+
+    /// The same field, read also from logs that hold it in one of `types`, through
+    /// a conversion the binding declares (`#[ulog(convert(TYPE = function))]`).
+    pub const fn converting(mut self, types: &'static [BasicType]) -> FieldDef {
+        self.converts = types;
+        self
+    }
+
+    /// The other basic types the binding reads the field from, by a conversion it
+    /// declares (beyond the types that [widen](BasicType::widens_to) to its own).
+    pub fn converts(&self) -> &'static [BasicType] {
+        self.converts
     }
 
     /// The same field, taking `absent` when a log lacks it.
@@ -105,6 +120,8 @@ pub struct Schema {
     rust_name: &'static str,
     named_after_struct: bool,
     optional_slots: usize,
+    /// The basic fields of the wire image, in the order of a plan's payload offsets.
+    image_leaves: Vec<ImageLeaf>,
 }
 
 impl Schema {
@@ -176,6 +193,7 @@ impl Schema {
         };
         Schema {
             fields,
+            image_leaves: image_leaves(fields, &layout, 0),
             format,
             formats,
             layout,
@@ -191,6 +209,11 @@ impl Schema {
         self.rust_name = rust_name;
         self.named_after_struct = named_after_struct;
         self
+    }
+
+    /// The basic fields of the wire image, in the order of a plan's payload offsets.
+    pub(crate) fn image_leaves(&self) -> &[ImageLeaf] {
+        &self.image_leaves
     }
 
     /// The message name.
@@ -245,4 +268,43 @@ impl Schema {
         let lines: Vec<String> = self.formats.iter().map(|f| f.to_string()).collect();
         lines.join("\n")
     }
+}
+
+/// One basic field of a binding's wire image, in the order of a plan's payload
+/// offsets (nested bindings' per element, padding left out).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ImageLeaf {
+    /// Its offset in the image.
+    pub at: usize,
+    /// Its basic type.
+    pub ty: BasicType,
+    /// Its array length (`None` for one value).
+    pub len: Option<usize>,
+}
+
+/// The [`ImageLeaf`]s of a layout whose fields are `defs`, from `base` of the image.
+pub(crate) fn image_leaves(defs: &[FieldDef], layout: &Layout, base: usize) -> Vec<ImageLeaf> {
+    let mut out = Vec::new();
+    for (def, own) in defs.iter().zip(layout.fields()) {
+        if own.is_padding() {
+            continue;
+        }
+        match (def.kind(), &own.ty) {
+            (FieldKind::Nested(nested), LayoutType::Nested(inner)) => {
+                let schema = nested();
+                for i in 0..own.array_len.unwrap_or(1) {
+                    let at = base + own.offset + i * inner.size();
+                    out.extend(image_leaves(schema.fields(), schema.layout(), at));
+                }
+            }
+            (_, LayoutType::Basic(ty)) => out.push(ImageLeaf {
+                at: base + own.offset,
+                ty: *ty,
+                len: own.array_len,
+            }),
+            // A schema's defs and layout come from one format.
+            _ => {}
+        }
+    }
+    out
 }

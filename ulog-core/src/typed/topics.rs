@@ -13,6 +13,10 @@ pub trait ULogTopics: Sized {
     /// The message names of the variants, in declaration order.
     const NAMES: &'static [&'static str];
 
+    /// The other names of each variant's topic ([`ULogMessage::ALIASES`]), in the
+    /// order of [`NAMES`](Self::NAMES) (empty: none).
+    const ALIASES: &'static [&'static [&'static str]] = &[];
+
     /// Plans variant `variant` (an index into [`NAMES`](Self::NAMES)) for a
     /// subscription's layout; `None` if there is no such variant.
     fn plan(variant: usize, layout: &Layout) -> Option<Result<TopicPlan, Mismatch>>;
@@ -20,9 +24,13 @@ pub trait ULogTopics: Sized {
     /// Decodes a payload with a plan made by [`plan`](Self::plan).
     fn decode(plan: &TopicPlan, payload: &[u8]) -> Result<Self, DecodeError>;
 
-    /// The variant bound to message `name`.
+    /// The variant bound to message `name`, by its name or else one of its aliases.
     fn variant_of(name: &str) -> Option<usize> {
-        Self::NAMES.iter().position(|n| *n == name)
+        Self::NAMES.iter().position(|n| *n == name).or_else(|| {
+            Self::ALIASES
+                .iter()
+                .position(|aliases| aliases.contains(&name))
+        })
     }
 }
 

@@ -95,6 +95,22 @@ pub trait WireField: Sized {
     const DIRECT: bool = matches!(Self::KIND, FieldKind::Basic(_));
     /// The value of a wire image, its optional fields as `present` says.
     fn from_wire(wire: &Self::Wire, present: Present<'_>) -> Self;
+    /// Whether a plan decodes it only through [`from_image`](Self::from_image): of
+    /// the payload's prefix, or of an image the plan fills from the payload by the
+    /// schema's table (the bindings of known formats). The type's code is then
+    /// inlined once per decode, not once per way of decoding (generated code).
+    #[doc(hidden)]
+    const READS_IMAGE: bool = false;
+    /// The value of a wire image held in `image`; `None` when `image` does not have
+    /// the image's size (generated code).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn from_image(image: &[u8], present: Present<'_>) -> Option<Self> {
+        match Self::Wire::ref_from_bytes(image) {
+            Ok(wire) => Some(Self::from_wire(wire, present)),
+            Err(_) => None,
+        }
+    }
     /// The value read straight from a log's payload, where `sources` says each part
     /// of it is: for a binding, one offset per field in declaration order (a nested
     /// binding's own offsets in its place; padding has none), [`NOWHERE`] for a
@@ -111,6 +127,15 @@ pub trait WireField: Sized {
             sources.first().copied().unwrap_or(NOWHERE),
             present,
         )
+    }
+    /// The value of one log value of another basic type that
+    /// [widens](BasicType::widens_to) to `Self::KIND` (the plan allows no other),
+    /// given as [`Widened`]; `None` for types that take no other (generated code).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn from_widened(value: Widened) -> Option<Self> {
+        let _ = value;
+        None
     }
     /// The wire image of a value (absent optional fields as zeros).
     fn to_wire(&self) -> Self::Wire;
@@ -150,6 +175,18 @@ impl Writability for HasOptionFields {
     type And<B: Writability> = HasOptionFields;
 }
 
+/// Implemented by [`Writable`] alone: what the writer asks of a binding's
+/// [`WireField::Writability`] (`T::Writability: IsWritable`), so that a binding with
+/// `Option` fields is refused at compile time with a text that says so.
+#[diagnostic::on_unimplemented(
+    message = "a binding with `Option` fields cannot be written: `None` has no bytes",
+    label = "this binding has `Option` fields (here or in a binding it nests)",
+    note = "read with it, and write with a binding whose every field has a value: `#[ulog(default)]` instead of `Option<T>` reads a field the log lacks as its default, and can be written"
+)]
+pub trait IsWritable: Writability {}
+
+impl IsWritable for Writable {}
+
 /// A field type that can be the element of an array field (`[T; N]`): every
 /// [`WireField`] except `CharArray<N>`, since ULog has no arrays of strings.
 #[diagnostic::on_unimplemented(
@@ -170,12 +207,51 @@ macro_rules! same_bytes {
                 *wire
             }
             #[inline(always)]
+            fn from_widened(value: Widened) -> Option<$t> {
+                widened!($basic, value).map(<$t>::from)
+            }
+            #[inline(always)]
             fn to_wire(&self) -> $t {
                 *self
             }
         }
         impl ArrayElement for $t {}
     )*};
+}
+
+/// The value of a [`Widened`] as the native type of basic type `$basic`: exact, as
+/// the plan lets only widenings through. `as` here converts values that fit.
+macro_rules! widened {
+    (UInt8, $v:expr) => {
+        $v.unsigned().map(|v| v as u8)
+    };
+    (Int8, $v:expr) => {
+        $v.signed().map(|v| v as i8)
+    };
+    (UInt16, $v:expr) => {
+        $v.unsigned().map(|v| v as u16)
+    };
+    (Int16, $v:expr) => {
+        $v.signed().map(|v| v as i16)
+    };
+    (UInt32, $v:expr) => {
+        $v.unsigned().map(|v| v as u32)
+    };
+    (Int32, $v:expr) => {
+        $v.signed().map(|v| v as i32)
+    };
+    (UInt64, $v:expr) => {
+        $v.unsigned()
+    };
+    (Int64, $v:expr) => {
+        $v.signed()
+    };
+    (Float, $v:expr) => {
+        Some($v.float() as f32)
+    };
+    (Double, $v:expr) => {
+        Some($v.float())
+    };
 }
 
 same_bytes!(
@@ -195,6 +271,10 @@ macro_rules! little_endian {
             #[inline(always)]
             fn from_wire(wire: &$wire, _: Present<'_>) -> $t {
                 wire.get()
+            }
+            #[inline(always)]
+            fn from_widened(value: Widened) -> Option<$t> {
+                widened!($basic, value)
             }
             #[inline(always)]
             fn to_wire(&self) -> $wire {
@@ -219,6 +299,11 @@ impl WireField for bool {
     #[inline(always)]
     fn from_wire(wire: &u8, _: Present<'_>) -> bool {
         *wire != 0
+    }
+    /// Only a `bool` (of a shorter array) becomes a `bool`.
+    #[inline(always)]
+    fn from_widened(value: Widened) -> Option<bool> {
+        value.unsigned().map(|u| u != 0)
     }
     #[inline(always)]
     fn to_wire(&self) -> u8 {
@@ -271,15 +356,159 @@ pub const fn wire_size<T: WireField>() -> usize {
 /// which are then not read, have it).
 pub const NOWHERE: u32 = u32::MAX;
 
+/// A payload offset whose value the log holds in another basic type, or as a
+/// shorter array, than the binding ([`Converted`]): this bit set, the offset in the
+/// low 16 bits (payloads are shorter than 64 KiB), the log's type's
+/// [index](BasicType::index) in the next 4, its array length (0 for one value) in the
+/// next 11.
+const CONVERTED: u32 = 1 << 31;
+
+/// Where a plan found a field that a binding reads in a type or length of its own
+/// (a [widening](BasicType::widens_to), a shorter array, or a conversion the field
+/// declares): the offset, the log's type and length, packed into a payload offset.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Converted {
+    /// The byte offset in the payload.
+    pub at: usize,
+    /// The log's basic type.
+    pub ty: BasicType,
+    /// The log's array length (`None` for one value).
+    pub len: Option<usize>,
+}
+
+/// The longest log array a conversion reads (the 11 bits of [`CONVERTED`]).
+pub(crate) const CONVERTED_MAX_LEN: usize = (1 << 11) - 1;
+
+impl Converted {
+    /// The packed payload offset; `None` when it does not fit.
+    pub(crate) fn pack(self) -> Option<u32> {
+        let at = u32::try_from(self.at).ok().filter(|&a| a <= 0xffff)?;
+        let len = self.len.unwrap_or(0);
+        (len <= CONVERTED_MAX_LEN)
+            .then(|| CONVERTED | at | ((self.ty.index() as u32) << 16) | ((len as u32) << 20))
+    }
+
+    /// The conversion a payload offset holds, if it is one.
+    #[inline]
+    pub fn unpack(source: u32) -> Option<Converted> {
+        if source & CONVERTED == 0 || source == NOWHERE {
+            return None;
+        }
+        let len = ((source >> 20) & 0x7ff) as usize;
+        Some(Converted {
+            at: (source & 0xffff) as usize,
+            ty: BasicType::ALL[((source >> 16) & 0xf) as usize % 12],
+            len: (len > 0).then_some(len),
+        })
+    }
+
+    /// Element `i` of the log's value, as a [`Widened`]; `None` past the payload.
+    #[inline]
+    pub fn element(&self, payload: &[u8], i: usize) -> Option<Widened> {
+        let size = self.ty.size();
+        let at = self.at + i * size;
+        let b = payload.get(at..at + size)?;
+        let mut w = [0u8; 8];
+        w[..size].copy_from_slice(b);
+        let u = u64::from_le_bytes(w);
+        Some(match self.ty {
+            BasicType::UInt8 | BasicType::UInt16 | BasicType::UInt32 | BasicType::UInt64 => {
+                Widened::Unsigned(u)
+            }
+            BasicType::Int8 => Widened::Signed(i64::from(b[0] as i8)),
+            BasicType::Int16 => Widened::Signed(i64::from(u as u16 as i16)),
+            BasicType::Int32 => Widened::Signed(i64::from(u as u32 as i32)),
+            BasicType::Int64 => Widened::Signed(u as i64),
+            BasicType::Float => Widened::Float(f64::from(f32::from_bits(u as u32))),
+            BasicType::Double => Widened::Float(f64::from_bits(u)),
+            BasicType::Bool => Widened::Unsigned(u64::from(b[0] != 0)),
+            BasicType::Char => Widened::Unsigned(u64::from(b[0])),
+        })
+    }
+
+    /// Element `i` of the log's value as the native type `N` of the log's type
+    /// (a field's declared conversion, `#[ulog(convert(…))]`); zero when the
+    /// payload does not hold it (generated code).
+    #[inline]
+    pub fn native<N: WireField>(&self, payload: &[u8], i: usize) -> N {
+        let at = self.at + i * self.ty.size();
+        read_from::<N>(payload, at as u32, Present::ALL)
+    }
+}
+
+/// One log value on its way to a wider type: its exact value in the widest type of
+/// its kind (generated code).
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Widened {
+    /// An unsigned integer, `bool` (0 or 1) or `char`.
+    Unsigned(u64),
+    /// A signed integer.
+    Signed(i64),
+    /// A `float` or `double`.
+    Float(f64),
+}
+
+impl Widened {
+    /// As an unsigned integer (`None` for signed and float values: the plan never
+    /// widens them to one).
+    #[inline]
+    pub(crate) fn unsigned(self) -> Option<u64> {
+        match self {
+            Widened::Unsigned(u) => Some(u),
+            _ => None,
+        }
+    }
+
+    /// As a signed integer (`u64` values above `i64::MAX` never reach here: no
+    /// unsigned type widens to a signed one of its size).
+    #[inline]
+    pub(crate) fn signed(self) -> Option<i64> {
+        match self {
+            Widened::Unsigned(u) => i64::try_from(u).ok(),
+            Widened::Signed(i) => Some(i),
+            Widened::Float(_) => None,
+        }
+    }
+
+    /// As a float (exact for every widening to `float` or `double`).
+    #[inline]
+    pub(crate) fn float(self) -> f64 {
+        match self {
+            Widened::Unsigned(u) => u as f64,
+            Widened::Signed(i) => i as f64,
+            Widened::Float(f) => f,
+        }
+    }
+}
+
 /// The `T` at byte `at` of a payload; zeros where the payload does not hold it (see
-/// [`NOWHERE`]).
+/// [`NOWHERE`]), or, for a [`Converted`] offset, the log's value widened.
 #[inline(always)]
 fn read_from<T: WireField>(payload: &[u8], at: u32, present: Present<'_>) -> T {
+    if at & CONVERTED != 0 && at != NOWHERE {
+        return read_converted::<T>(payload, at, 0, present);
+    }
     match payload
         .get(at as usize..)
         .and_then(|p| T::Wire::ref_from_prefix(p).ok())
     {
         Some((wire, _)) => T::from_wire(wire, present),
+        None => T::from_wire(&T::Wire::new_zeroed(), present),
+    }
+}
+
+/// Element `i` of a converted field: the log's value widened to `T`; zeros past the
+/// log's array or payload.
+#[cold]
+fn read_converted<T: WireField>(payload: &[u8], at: u32, i: usize, present: Present<'_>) -> T {
+    let value = Converted::unpack(at)
+        .filter(|c| i < c.len.unwrap_or(1))
+        .and_then(|c| c.element(payload, i))
+        .and_then(T::from_widened);
+    match value {
+        Some(v) => v,
         None => T::from_wire(&T::Wire::new_zeroed(), present),
     }
 }
@@ -317,6 +546,9 @@ pub fn read_array_source<T: WireField, const N: usize>(
     match T::KIND {
         FieldKind::Basic(_) => {
             let at = sources.get(k).copied().unwrap_or(NOWHERE);
+            if at & CONVERTED != 0 && at != NOWHERE {
+                return core::array::from_fn(|i| read_converted::<T>(payload, at, i, present));
+            }
             match payload
                 .get(at as usize..)
                 .and_then(|p| <[T::Wire; N]>::ref_from_prefix(p).ok())
@@ -331,14 +563,58 @@ pub fn read_array_source<T: WireField, const N: usize>(
     }
 }
 
+/// Reads the `T` whose offset is `sources[k]` through the conversion a field declares
+/// (`#[ulog(convert(TYPE = function))]`): `convert` of the log's value of native type
+/// `N` when the plan found the field of that type (`ty`), else as
+/// [`read_source`] reads it (generated code).
+#[inline(always)]
+pub fn read_declared<N: WireField, T: WireField>(
+    payload: &[u8],
+    sources: &[u32],
+    k: usize,
+    ty: BasicType,
+    convert: impl Fn(N) -> T,
+    present: Present<'_>,
+) -> T {
+    let at = sources.get(k).copied().unwrap_or(NOWHERE);
+    match Converted::unpack(at) {
+        Some(c) if c.ty == ty => convert(c.native::<N>(payload, 0)),
+        _ => read_source::<T>(payload, sources, k, present),
+    }
+}
+
+/// [`read_declared`] of an array field: element by element, the binding's elements
+/// beyond the log's array zeros (generated code).
+#[inline(always)]
+pub fn read_declared_array<N: WireField, T: WireField, const LEN: usize>(
+    payload: &[u8],
+    sources: &[u32],
+    k: usize,
+    ty: BasicType,
+    convert: impl Fn(N) -> T,
+    present: Present<'_>,
+) -> [T; LEN] {
+    let at = sources.get(k).copied().unwrap_or(NOWHERE);
+    match Converted::unpack(at) {
+        Some(c) if c.ty == ty => core::array::from_fn(|i| {
+            if i < c.len.unwrap_or(1) {
+                convert(c.native::<N>(payload, i))
+            } else {
+                T::from_wire(&T::Wire::new_zeroed(), present)
+            }
+        }),
+        _ => read_array_source::<T, LEN>(payload, sources, k, present),
+    }
+}
+
 /// Reads the `T` at `offset` of a binding's wire image (generated code).
 #[inline(always)]
 pub fn read<T: WireField>(wire: &[u8], offset: usize, present: Present<'_>) -> T {
     let bytes = &wire[offset..offset + wire_size::<T>()];
-    match T::Wire::ref_from_bytes(bytes) {
-        Ok(w) => T::from_wire(w, present),
+    match T::from_image(bytes, present) {
+        Some(value) => value,
         // The slice has the wire image's size, whose alignment is 1.
-        Err(_) => unreachable!("a wire image of the right size"),
+        None => unreachable!("a wire image of the right size"),
     }
 }
 

@@ -12,7 +12,7 @@ use crate::definitions::Subscription;
 use crate::log::message::Message;
 use crate::log::ulog::ULog;
 use crate::typed::message::ULogMessage;
-use crate::typed::{WireField, Writable};
+use crate::typed::IsWritable;
 use crate::write::error::{WriteError, WriteErrorKind};
 use crate::write::writer::{DataWriter, TopicHandle, WriterOptions};
 
@@ -45,7 +45,8 @@ impl<F: Write> Appender<F> {
     /// instance. Prefer it to [`Appender::continue_topic`].
     pub fn subscribe<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>, WriteError>
     where
-        T: ULogMessage + WireField<Writability = Writable>,
+        T: ULogMessage,
+        T::Writability: IsWritable,
     {
         self.data.subscribe::<T>(multi_id)
     }
@@ -61,7 +62,8 @@ impl<F: Write> Appender<F> {
     /// Flight Review) must read.
     pub fn continue_topic<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>, WriteError>
     where
-        T: ULogMessage + WireField<Writability = Writable>,
+        T: ULogMessage,
+        T::Writability: IsWritable,
     {
         let at = Some(self.data.position());
         let sub = self
@@ -82,6 +84,7 @@ impl<F: Write> Appender<F> {
                     multi_id: Some(multi_id),
                     instances,
                     closest: Vec::new(),
+                    aliases: Vec::new(),
                 };
                 WriteError::new(WriteErrorKind::TopicNotFound(missing), at)
             })?;

@@ -11,14 +11,21 @@ use crate::definitions::{Definitions, Subscription};
 use crate::finding::Finding;
 use crate::framing::{Framer, Header, Record};
 use crate::log::message::{KeyValue, Message};
-use crate::pass::driver::{DataRecord, Hand, Visit};
 use crate::pass::source::{drive, Source};
+use crate::pass::visit::{DataRecord, Hand, Visit};
 use crate::write::error::{WriteError, WriteErrorKind};
 use crate::write::raw::RawWriter;
 
 /// A payload mapper: the topic of the data message, and its payload (after the
 /// msg_id) to change in place.
 type Mapper<'f> = Box<dyn FnMut(&Subscription, &mut [u8]) + 'f>;
+
+/// A mapper of the messages that hold values besides data: the type byte and the
+/// payload, to change (its length too).
+type MessageMapper<'f> = Box<dyn FnMut(u8, &mut Vec<u8>) + 'f>;
+
+/// The message types [`Edit::map_messages`] sees.
+const MAPPED_TYPES: &[u8] = b"IMPQLC";
 
 /// A log re-written message by message into a valid log: data messages of the chosen
 /// topics inside a time window, payloads mapped by a closure, and every other message
@@ -74,6 +81,7 @@ pub struct Edit<'f> {
     drop_info: Vec<String>,
     header_timestamp: Option<u64>,
     map: Option<Mapper<'f>>,
+    map_messages: Option<MessageMapper<'f>>,
 }
 
 impl core::fmt::Debug for Edit<'_> {
@@ -86,6 +94,7 @@ impl core::fmt::Debug for Edit<'_> {
             .field("drop_info", &self.drop_info)
             .field("header_timestamp", &self.header_timestamp)
             .field("map", &self.map.is_some())
+            .field("map_messages", &self.map_messages.is_some())
             .finish()
     }
 }
@@ -99,6 +108,10 @@ pub struct EditSummary {
     pub rows: u64,
     /// Data messages left out (other topics, outside the window).
     pub rows_left_out: u64,
+    /// The lowest and highest data timestamps of the input, of every topic (kept or
+    /// not; by the clock the window uses): where a window that kept no row could
+    /// have been. `None` for a log without data.
+    pub data_times: Option<(u64, u64)>,
     /// Topics named by [`Edit::only`] or [`Edit::exclude`] that the log has a format
     /// for but never subscribes (so no data of them was kept or left out).
     pub unlogged: Vec<String>,
@@ -113,7 +126,8 @@ impl<'f> Edit<'f> {
     }
 
     /// Keeps data with `start ≤ timestamp < end` (microseconds, as the log's
-    /// timestamps; `None`: no bound).
+    /// timestamps; `None`: no bound). A window whose start is not before its end is
+    /// refused by [`Edit::write`] ([`WriteErrorKind::EmptyWindow`]).
     pub fn window(mut self, start: Option<u64>, end: Option<u64>) -> Edit<'f> {
         self.start = start;
         self.end = end;
@@ -155,6 +169,16 @@ impl<'f> Edit<'f> {
         self
     }
 
+    /// Calls `map` on every information, multi-information, parameter, default
+    /// parameter and logged string message written (`I`, `M`, `P`, `Q`, `L`, `C`), in
+    /// the order they are written, with its type byte and its payload to change (its
+    /// length may change; it must stay a message of its type). Parameters are seen as
+    /// written: with a window, the initial values as they were at its start.
+    pub fn map_messages(mut self, map: impl FnMut(u8, &mut Vec<u8>) + 'f) -> Edit<'f> {
+        self.map_messages = Some(Box::new(map));
+        self
+    }
+
     /// Writes the edited log from `source` to `out`, in one pass over its messages in
     /// file order: no index is built, and a reader or [`Source::file`] is read in
     /// chunks on a second thread while the messages before are framed and written
@@ -172,12 +196,23 @@ impl<'f> Edit<'f> {
     /// which framing accepts and the spec does not, is kept or left out with its topic
     /// but is not looked in for these names),
     /// input that is not a log ([`WriteErrorKind::Unreadable`], its error kept as the
-    /// source), and failures to write.
+    /// source), a window that holds no time ([`WriteErrorKind::EmptyWindow`], before
+    /// anything is read), and failures to write. A window that holds time but none of
+    /// the log's data is no error: the result has the definitions and no data
+    /// ([`EditSummary::rows`] 0, [`EditSummary::data_times`] says where the data is).
     pub fn write<'s, W: Write>(
         self,
         source: impl Into<Source<'s>>,
         out: W,
     ) -> Result<EditSummary, WriteError> {
+        if let (Some(start), Some(end)) = (self.start, self.end) {
+            if start >= end {
+                return Err(WriteError::new(
+                    WriteErrorKind::EmptyWindow { start, end },
+                    None,
+                ));
+            }
+        }
         let mut editor = Editor {
             start: self.start.unwrap_or(0),
             end: self.end.unwrap_or(u64::MAX),
@@ -347,10 +382,24 @@ impl<'f, W: Write> Editor<'f, W> {
                 }
                 _ => {}
             }
-            self.w.message(*msg_type, &[payload])?;
-            self.summary.messages += 1;
+            self.write_other(*msg_type, payload)?;
         }
         self.write_added(&mut added, &h.folded, &initial)
+    }
+
+    /// Writes a message other than data, through [`Edit::map_messages`] if it maps
+    /// its type.
+    fn write_other(&mut self, msg_type: u8, payload: &[u8]) -> Result<(), WriteError> {
+        match &mut self.edit.map_messages {
+            Some(map) if MAPPED_TYPES.contains(&msg_type) => {
+                let mut mapped = payload.to_vec();
+                map(msg_type, &mut mapped);
+                self.w.message(msg_type, &[&mapped])?;
+            }
+            _ => self.w.message(msg_type, &[payload])?,
+        }
+        self.summary.messages += 1;
+        Ok(())
     }
 
     /// The parameters first set by a change before the start (not among `initial`),
@@ -363,8 +412,7 @@ impl<'f, W: Write> Editor<'f, W> {
     ) -> Result<(), WriteError> {
         for name in std::mem::take(added) {
             if !initial.contains(&name) {
-                self.w.message(b'P', &[&folded[&name]])?;
-                self.summary.messages += 1;
+                self.write_other(b'P', &folded[&name])?;
             }
         }
         Ok(())
@@ -374,10 +422,7 @@ impl<'f, W: Write> Editor<'f, W> {
     fn keep(&mut self, msg_type: u8, payload: &[u8]) -> Result<(), WriteError> {
         match &mut self.held {
             Some(h) => h.messages.push((msg_type, payload.to_vec())),
-            None => {
-                self.w.message(msg_type, &[payload])?;
-                self.summary.messages += 1;
-            }
+            None => self.write_other(msg_type, payload)?,
         }
         Ok(())
     }
@@ -514,6 +559,10 @@ impl<W: Write> Visit for Editor<'_, W> {
             }
             None => self.last,
         };
+        self.summary.data_times = Some(match self.summary.data_times {
+            Some((lo, hi)) => (lo.min(time), hi.max(time)),
+            None => (time, time),
+        });
         if !*chosen || !self.inside(time) {
             self.summary.rows_left_out += 1;
             return Hand::Next;

@@ -74,8 +74,9 @@ pub enum WriteErrorKind {
         /// The length given.
         found: usize,
     },
-    /// Appending: the log could not be read (the [`ReadError`] is the error's
-    /// [`source`](std::error::Error::source)).
+    /// Copying, appending, editing: the input log could not be read (not ULog, a
+    /// header the spec says to refuse, an I/O error); the [`ReadError`] is the
+    /// error's [`source`](std::error::Error::source).
     Unreadable,
     /// Appending: the log has no flag bits message (version 0 logs cannot take
     /// appended data).
@@ -93,6 +94,14 @@ pub enum WriteErrorKind {
         binding: String,
         /// The log's format.
         log: String,
+    },
+    /// Editing: a time window whose start is not before its end, so that it holds no
+    /// time (refused before anything is read).
+    EmptyWindow {
+        /// The window's start (microseconds, as the log's timestamps).
+        start: u64,
+        /// The window's end.
+        end: u64,
     },
 }
 
@@ -209,8 +218,8 @@ impl fmt::Display for WriteError {
                 expected.0, expected.1
             ),
             WriteErrorKind::Unreadable => match &e.source {
-                Some(Source::Read(e)) => write!(f, "the log to append to cannot be read: {e}"),
-                _ => write!(f, "the log to append to cannot be read"),
+                Some(Source::Read(e)) => unreadable_text(f, e),
+                _ => write!(f, "the input log cannot be read"),
             },
             WriteErrorKind::NoFlagBits => write!(
                 f,
@@ -224,6 +233,10 @@ impl fmt::Display for WriteError {
                 f,
                 "the log's format of `{topic}` is not the binding's: binding `{binding}`, log `{log}`"
             ),
+            WriteErrorKind::EmptyWindow { start, end } => write!(
+                f,
+                "the time window is empty: its start ({start} us) is not before its end ({end} us)"
+            ),
         }?;
         match e.position {
             Some(at) if !matches!(e.kind, WriteErrorKind::Unreadable) => {
@@ -231,6 +244,23 @@ impl fmt::Display for WriteError {
             }
             _ => Ok(()),
         }
+    }
+}
+
+/// The text of an input (to copy, append to or edit) that cannot be read: what is
+/// wrong with it, and where; for bytes that are not ULog, what a ULog file starts with.
+fn unreadable_text(f: &mut fmt::Formatter<'_>, e: &ReadError) -> fmt::Result {
+    use crate::error::ReadErrorKind;
+    match e.kind() {
+        ReadErrorKind::NotULog { found } => write!(
+            f,
+            "the input is not a ULog file: no ULog magic (`ULog` 0x01 0x12 0x35) at byte 0, found {found}"
+        ),
+        ReadErrorKind::Empty | ReadErrorKind::TruncatedHeader { .. } => f.write_str(&e.what()),
+        _ => match e.position() {
+            Some(at) => write!(f, "the input log cannot be read at byte {at}: {}", e.what()),
+            None => write!(f, "the input log cannot be read: {}", e.what()),
+        },
     }
 }
 

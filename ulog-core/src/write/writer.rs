@@ -20,7 +20,7 @@ use crate::bytes::SYNC_MAGIC;
 use crate::framing::is_text_byte;
 use crate::log::message::LogLevel;
 use crate::typed::message::ULogMessage;
-use crate::typed::{FieldKind, WireField, Writable};
+use crate::typed::{FieldKind, IsWritable, WireField};
 use crate::write::error::{WriteError, WriteErrorKind};
 use crate::write::raw::RawWriter;
 
@@ -397,7 +397,8 @@ impl<W: Write> LogWriter<W> {
     /// itself opens the data section.
     pub fn subscribe<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>>
     where
-        T: ULogMessage + WireField<Writability = Writable>,
+        T: ULogMessage,
+        T::Writability: IsWritable,
     {
         let mut pending = Vec::new();
         self.core.add_formats(T::layout(), &mut pending)?;
@@ -477,7 +478,8 @@ impl<W: Write> DataWriter<W> {
     /// written in the definitions section (formats cannot be written here).
     pub fn subscribe<T>(&mut self, multi_id: u8) -> Result<TopicHandle<T>>
     where
-        T: ULogMessage + WireField<Writability = Writable>,
+        T: ULogMessage,
+        T::Writability: IsWritable,
     {
         for f in T::layout().formats() {
             if self.core.formats.get(&f.name).map(|k| &k.fields) != Some(&f.fields) {

@@ -1,0 +1,3 @@
+ulog_core::ulog_module!(topics = ["ok", "clsh"]; mod bindings = "unbindable.ulg");
+
+fn main() {}

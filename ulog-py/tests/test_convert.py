@@ -1,0 +1,68 @@
+"""ulog_rs.convert writes the dataset `ulog parquet LOGS -o DATASET` writes: the same
+files byte for byte, the same log ids (read back by pyarrow); converting again skips
+every log."""
+
+import os
+import pathlib
+import shutil
+import subprocess
+
+import pytest
+
+pq = pytest.importorskip("pyarrow.parquet")
+import ulog_rs
+
+from conftest import OWN, ROOT, missing
+
+
+def ulog_binary():
+    for profile in ("debug", "release"):
+        exe = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / profile / "ulog"
+        if exe.exists():
+            return exe
+    return shutil.which("ulog")
+
+
+def files(root):
+    return sorted(p.relative_to(root) for p in root.rglob("*.parquet"))
+
+
+def test_convert_writes_what_ulog_parquet_writes(tmp_path):
+    exe = ulog_binary()
+    if exe is None:
+        missing("the `ulog` binary (cargo build -p ulog-cli) is not built")
+    logs = sorted(OWN.glob("*.ulg"))
+    ours, theirs = tmp_path / "ours", tmp_path / "theirs"
+    done = ulog_rs.convert([str(OWN)], ours)
+    assert [d.status for d in done] == ["written"] * len(logs)
+    assert [pathlib.Path(d.path).name for d in done] == [p.name for p in logs]
+    subprocess.run([str(exe), "parquet", *map(str, logs), "-o", str(theirs)], check=True,
+                   capture_output=True)
+    assert files(ours) == files(theirs)
+    assert len(files(ours)) > 4 * len(logs)
+    # The same logs by the same paths: the same files byte for byte (the dataset's
+    # files do not depend on the order logs are added in, or the threads).
+    for rel in files(ours):
+        assert (ours / rel).read_bytes() == (theirs / rel).read_bytes(), rel
+        assert pq.read_metadata(ours / rel).num_columns > 0, rel  # a Parquet file pyarrow reads
+    ids = sorted(d.log_id for d in done)
+    assert ids == sorted(pq.read_table(theirs / "logs.parquet").column("log_id").to_pylist())
+
+    again = ulog_rs.convert(logs, ours)
+    assert [d.status for d in again] == ["present"] * len(logs)
+    assert files(ours) == files(theirs)
+
+
+def test_a_log_that_fails_is_reported_and_the_others_written(tmp_path):
+    bad = tmp_path / "not_a_log.ulg"
+    bad.write_bytes(b"not a log at all" * 10)
+    good = sorted(OWN.glob("*.ulg"))[0]
+    done = ulog_rs.convert([good, bad], tmp_path / "ds")
+    assert [d.status for d in done] == ["written", "failed"]
+    assert "ULog" in done[1].error or "magic" in done[1].error, done[1].error
+    assert (tmp_path / "ds" / "logs.parquet").exists()
+
+
+def test_an_input_that_names_nothing_is_file_not_found(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        ulog_rs.convert([tmp_path / "nothing*.ulg"], tmp_path / "ds")
