@@ -1,5 +1,6 @@
 //! `ulog align`: several topics on one time base, as one CSV or Parquet table.
 
+mod one_pass;
 mod parquet;
 
 use std::io::Write;
@@ -35,6 +36,14 @@ use crate::numfmt::{format_i64, format_numpy_f32, format_numpy_f64, format_u64, 
 /// (`vehicle_attitude.q[0]`, `esc_status.esc[2].esc_rpm`), `topic:N.field` for
 /// instance N ≥ 1. Floats are written with the fewest digits that read back as the
 /// same value.
+///
+/// With `--one-pass` the log is read once in file order, holding only the rows the
+/// methods still need (a few seconds of the log; a log larger than memory, or read
+/// from a pipe): the same table, except where it says so on standard error (a row
+/// written long after its time; a step decided before a topic's next row came, after
+/// `--horizon` seconds of waiting). A topic named without an instance is instance 0,
+/// `--start`/`--end` count from the start the header gives, and `--rate`'s steps end
+/// at the last row of the topics read.
 ///
 /// With `-o OUT.parquet` the table is a Parquet file (zstd, as `ulog parquet` writes
 /// by default): `timestamp` a `uint64` with no nulls, every other column of its
@@ -79,6 +88,18 @@ pub struct Args {
     /// Threads formatting the CSV table (default: the number of CPUs).
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<std::num::NonZeroUsize>,
+    /// Read the log once in file order, holding only the rows the methods still need.
+    #[arg(long)]
+    one_pass: bool,
+    /// With `--one-pass`: how long (seconds of the log) a step waits for a topic's
+    /// next row before it is decided without it.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        requires = "one_pass",
+        default_value_t = 10.0
+    )]
+    horizon: f64,
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
@@ -96,6 +117,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map(str::parse::<Selection>)
         .transpose()
         .map_err(|e| about(e.to_string()))?;
+
+    if args.one_pass {
+        return one_pass::run(args, &selected, grid_topic.as_ref());
+    }
 
     // One pass in chunks, keeping the rows of the topics named only.
     let mut names: Vec<&str> = selected.iter().map(|s| s.topic.as_str()).collect();
@@ -127,6 +152,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .collect::<Result<_, _>>()
         .map_err(|e| lookup(&name, e))?;
 
+    let tables: Vec<Table> = tables.iter().map(Table::of).collect();
     let threads = input::threads(args.jobs);
     match &args.output {
         Some(p) if is_parquet(p) => parquet::write(p, steps.times(), &tables, rows),
@@ -153,13 +179,30 @@ fn is_parquet(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("parquet"))
 }
 
+/// The columns of one topic instance in the table.
+struct Table {
+    name: String,
+    multi_id: u8,
+    columns: Vec<(String, FieldReader)>,
+}
+
+impl Table {
+    fn of(selected: &SelectedColumns<'_, '_>) -> Table {
+        Table {
+            name: selected.topic.name().to_owned(),
+            multi_id: selected.topic.multi_id(),
+            columns: selected.columns.clone(),
+        }
+    }
+}
+
 /// The name of each column after `timestamp`: `topic.field`, `topic:N.field`.
-fn column_names(tables: &[SelectedColumns<'_, '_>]) -> Vec<String> {
+fn column_names(tables: &[Table]) -> Vec<String> {
     let mut names = Vec::new();
     for t in tables {
-        let prefix = match t.topic.multi_id() {
-            0 => t.topic.name().to_owned(),
-            n => format!("{}:{n}", t.topic.name()),
+        let prefix = match t.multi_id {
+            0 => t.name.clone(),
+            n => format!("{}:{n}", t.name),
         };
         names.extend(t.columns.iter().map(|(path, _)| format!("{prefix}.{path}")));
     }
@@ -186,17 +229,11 @@ const ROUND_BYTES: usize = 16 << 20;
 fn write_csv(
     mut out: impl Write,
     times: &[u64],
-    tables: &[SelectedColumns<'_, '_>],
+    tables: &[Table],
     rows: &[Rows<'_, '_>],
     threads: usize,
 ) -> std::io::Result<()> {
-    let mut header: Vec<u8> = b"timestamp".to_vec();
-    for name in column_names(tables) {
-        header.push(b',');
-        header.extend_from_slice(csv_text(&name).as_bytes());
-    }
-    header.push(b'\n');
-    out.write_all(&header)?;
+    out.write_all(&csv_header(tables))?;
     // A step's line takes about 20 bytes a column (a float's shortest digits, often
     // fewer when cells are empty).
     let line = 20 * (1 + tables.iter().map(|t| t.columns.len()).sum::<usize>());
@@ -226,11 +263,22 @@ fn write_csv(
     out.flush()
 }
 
+/// The CSV table's first line.
+fn csv_header(tables: &[Table]) -> Vec<u8> {
+    let mut header: Vec<u8> = b"timestamp".to_vec();
+    for name in column_names(tables) {
+        header.push(b',');
+        header.extend_from_slice(csv_text(&name).as_bytes());
+    }
+    header.push(b'\n');
+    header
+}
+
 /// Appends the lines of the steps `range` to `text`.
 fn csv_lines(
     text: &mut Vec<u8>,
     times: &[u64],
-    tables: &[SelectedColumns<'_, '_>],
+    tables: &[Table],
     rows: &[Rows<'_, '_>],
     range: core::ops::Range<usize>,
 ) {
@@ -259,7 +307,7 @@ struct Cells<'t, 'a> {
 }
 
 impl<'t, 'a> Cells<'t, 'a> {
-    fn new(table: &'t SelectedColumns<'_, '_>) -> Cells<'t, 'a> {
+    fn new(table: &'t Table) -> Cells<'t, 'a> {
         Cells {
             columns: &table.columns,
             row: None,
@@ -278,15 +326,26 @@ impl<'t, 'a> Cells<'t, 'a> {
             }
             Some(row) => {
                 self.text.clear();
-                for (_, reader) in self.columns {
-                    self.text.push(b',');
-                    write_value(&mut self.text, reader, &row);
-                }
+                row_cells(&mut self.text, self.columns, Some(&row));
                 self.row = match row {
                     Row::Logged(p) => Some(p),
                     Row::Between { .. } => None,
                 };
                 line.extend_from_slice(&self.text);
+            }
+        }
+    }
+}
+
+/// Appends the cells of `columns` in `row` (`,a,b,…`; empty ones when there is none)
+/// to `line`.
+fn row_cells(line: &mut Vec<u8>, columns: &[(String, FieldReader)], row: Option<&Row<'_>>) {
+    match row {
+        None => line.resize(line.len() + columns.len(), b','),
+        Some(row) => {
+            for (_, reader) in columns {
+                line.push(b',');
+                write_value(line, reader, row);
             }
         }
     }

@@ -421,3 +421,122 @@ fn parquet_to_a_path_that_cannot_be_written_is_an_error_naming_it() {
     assert!(err.contains("is a directory"), "{err}");
     assert!(folder.is_dir(), "the folder is left as it was");
 }
+
+/// Runs `ulog align` with `args` to `out`; its standard error.
+fn align_to(out: &Path, args: &[String]) -> String {
+    let mut a: Vec<String> = vec!["align".into()];
+    a.extend(args.iter().cloned());
+    a.extend(["-o".into(), out.display().to_string()]);
+    let run = common::ulog(&a);
+    assert!(
+        run.status.success(),
+        "{a:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    String::from_utf8(run.stderr).unwrap()
+}
+
+#[test]
+fn one_pass_writes_the_indexed_table_unless_it_says_why_not_on_every_corpus_log() {
+    let scratch = common::scratch("align_one_pass");
+    let (mut same, mut noted) = (0, 0);
+    for (stem, file, grid, topics) in chosen_logs() {
+        for method in ["previous", "nearest", "linear"] {
+            let args: Vec<String> = vec![
+                file.display().to_string(),
+                topics.join(","),
+                "--on".into(),
+                grid.clone(),
+                "--method".into(),
+                method.into(),
+            ];
+            let (a, b) = (scratch.join("indexed.csv"), scratch.join("one_pass.csv"));
+            assert_eq!(align_to(&a, &args), "", "{stem}");
+            let one_pass: Vec<String> = args.iter().cloned().chain(["--one-pass".into()]).collect();
+            let notes = align_to(&b, &one_pass);
+            let (a, b) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+            if notes.is_empty() {
+                assert!(
+                    a == b,
+                    "{stem} {method}: tables differ and nothing said why"
+                );
+                same += 1;
+            } else {
+                assert!(notes.lines().all(|l| l.contains(": note: ")), "{notes}");
+                noted += 1;
+            }
+            // Parquet: the same file.
+            if method == "linear" && notes.is_empty() {
+                let (a, b) = (
+                    scratch.join("indexed.parquet"),
+                    scratch.join("one_pass.parquet"),
+                );
+                align_to(&a, &args);
+                align_to(&b, &one_pass);
+                assert!(
+                    std::fs::read(&a).unwrap() == std::fs::read(&b).unwrap(),
+                    "{stem}: Parquet tables differ"
+                );
+            }
+        }
+    }
+    assert!(same >= 3, "{same} tables equal, {noted} with notes");
+}
+
+#[test]
+fn one_pass_names_a_row_written_long_after_its_time() {
+    let dir = common::scratch("align_one_pass_late");
+    let mut b = LogBuilder::new(1, 1_000_000);
+    b.format("a:uint64_t timestamp;int32_t n;");
+    b.format("b:uint64_t timestamp;float v;");
+    b.subscribe(0, 0, "a");
+    b.subscribe(0, 1, "b");
+    for k in 0..3_000u64 {
+        let t = 1_000_000 + k * 10_000;
+        b.data(
+            0,
+            &[t.to_le_bytes().as_slice(), &(k as i32).to_le_bytes()].concat(),
+        );
+        b.data(
+            1,
+            &[t.to_le_bytes().as_slice(), &(k as f32).to_le_bytes()].concat(),
+        );
+    }
+    let late_at = b.bytes().len();
+    b.data(
+        1,
+        &[
+            1_500_000u64.to_le_bytes().as_slice(),
+            &(-1f32).to_le_bytes(),
+        ]
+        .concat(),
+    );
+    let file = dir.join("late.ulg");
+    std::fs::write(&file, b.into_bytes()).unwrap();
+    let f = file.display().to_string();
+    let args: Vec<String> = [&f, "b.v", "--on", "a", "--one-pass"]
+        .map(String::from)
+        .to_vec();
+    let notes = align_to(&dir.join("t.csv"), &args);
+    assert!(
+        notes.contains("1 row(s) of b came after") && notes.contains(&format!("byte {late_at}")),
+        "{notes}"
+    );
+    // The horizon is an option of --one-pass only; a field is no grid.
+    assert_eq!(
+        common::ulog(["align", &f, "b", "--on", "a", "--horizon", "1"])
+            .status
+            .code(),
+        Some(2)
+    );
+    let out = common::ulog(["align", &f, "b", "--on", "a.n", "--one-pass"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("`a.n`"));
+    let out = common::ulog(["align", &f, "b.x", "--on", "a", "--one-pass"]);
+    assert_eq!(
+        out.status.code(),
+        Some(5),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

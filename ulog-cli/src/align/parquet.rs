@@ -5,7 +5,7 @@ use std::fs::File;
 use std::path::Path;
 use std::sync::Arc;
 
-use ulog_core::align::{Row, Rows, SelectedColumns};
+use ulog_core::align::{Row, Rows};
 use ulog_core::export::arrow_array::{ArrayRef, RecordBatch, UInt64Array};
 use ulog_core::export::arrow_schema::{DataType, Field, Schema, SchemaRef};
 use ulog_core::export::parquet::arrow::ArrowWriter;
@@ -13,7 +13,7 @@ use ulog_core::export::parquet::errors::ParquetError;
 use ulog_core::export::{self, Compression};
 use ulog_core::read::FieldShape;
 
-use super::column_names;
+use super::{column_names, Table};
 use crate::failure::{io_text, Failure};
 
 /// Steps per record batch at most: what is held at a time is one batch of values
@@ -33,8 +33,33 @@ const ROW_GROUP_BYTES: usize = 16 << 20;
 pub(super) fn write(
     path: &Path,
     times: &[u64],
-    tables: &[SelectedColumns<'_, '_>],
-    rows: Vec<Rows<'_, '_>>,
+    tables: &[Table],
+    mut rows: Vec<Rows<'_, '_>>,
+) -> Result<(), Failure> {
+    write_with(path, tables, |out| {
+        for steps in times.chunks(out.batch) {
+            let picked: Vec<Vec<Option<Row<'_>>>> = rows
+                .iter_mut()
+                .map(|r| r.by_ref().take(steps.len()).collect())
+                .collect();
+            // An interpolated row's payload holds the earlier row's bytes but for its
+            // floats: every column reads from it, text included.
+            let payloads: Vec<Vec<Option<&[u8]>>> = picked
+                .iter()
+                .map(|p| p.iter().map(|r| r.as_ref().map(Row::bytes)).collect())
+                .collect();
+            out.write(steps, &payloads)?;
+        }
+        Ok(())
+    })
+}
+
+/// Creates the file at `path`, hands `fill` the table's writer, and closes it; a
+/// failed write removes what it wrote.
+pub(super) fn write_with(
+    path: &Path,
+    tables: &[Table],
+    fill: impl FnOnce(&mut TableWriter<'_>) -> Result<(), Error>,
 ) -> Result<(), Failure> {
     let mut fields = vec![Field::new("timestamp", DataType::UInt64, false)];
     let readers = tables.iter().flat_map(|t| t.columns.iter().map(|(_, r)| r));
@@ -43,63 +68,80 @@ pub(super) fn write(
     }
     let schema: SchemaRef = Arc::new(Schema::new(fields));
     let file = File::create(path).map_err(|e| Failure::unreadable(path.display(), io_text(&e)))?;
-    let result = write_batches(file, schema, times, tables, rows);
+    let result = TableWriter::new(file, schema, tables).and_then(|mut out| {
+        fill(&mut out)?;
+        out.writer.close().map(drop).map_err(Error::Parquet)
+    });
     if result.is_err() {
         let _ = std::fs::remove_file(path);
     }
     result.map_err(|e| match e {
         Error::Parquet(e) => Failure::unreadable(path.display(), parquet_text(&e)),
         Error::Export(e) => Failure::about(path.display(), e),
+        Error::Other(f) => f,
     })
 }
 
 /// What stops the file from being written.
-enum Error {
+pub(super) enum Error {
     Parquet(ParquetError),
     Export(export::ExportError),
+    /// Reading the log failed.
+    Other(Failure),
 }
 
-fn write_batches(
-    file: File,
+/// The Parquet writer of an aligned table, taking a batch of steps at a time.
+pub(super) struct TableWriter<'t> {
+    writer: ArrowWriter<File>,
     schema: SchemaRef,
-    times: &[u64],
-    tables: &[SelectedColumns<'_, '_>],
-    mut rows: Vec<Rows<'_, '_>>,
-) -> Result<(), Error> {
-    // The encodings `ulog parquet` writes its files with, and its default codec.
-    let props = export::writer_properties(&schema, Compression::Zstd);
-    let mut writer =
-        ArrowWriter::try_new(file, schema.clone(), Some(props)).map_err(Error::Parquet)?;
-    let width: usize = 8 + tables
-        .iter()
-        .flat_map(|t| &t.columns)
-        .map(|(_, r)| match r.shape() {
-            FieldShape::Scalar => r.ty().size(),
-            FieldShape::Array(n) | FieldShape::String(n) => n * r.ty().size(),
+    tables: &'t [Table],
+    /// Steps per batch.
+    pub(super) batch: usize,
+}
+
+impl<'t> TableWriter<'t> {
+    fn new(file: File, schema: SchemaRef, tables: &'t [Table]) -> Result<TableWriter<'t>, Error> {
+        // The encodings `ulog parquet` writes its files with, and its default codec.
+        let props = export::writer_properties(&schema, Compression::Zstd);
+        let writer =
+            ArrowWriter::try_new(file, schema.clone(), Some(props)).map_err(Error::Parquet)?;
+        let width: usize = 8 + tables
+            .iter()
+            .flat_map(|t| &t.columns)
+            .map(|(_, r)| match r.shape() {
+                FieldShape::Scalar => r.ty().size(),
+                FieldShape::Array(n) | FieldShape::String(n) => n * r.ty().size(),
+            })
+            .sum::<usize>();
+        Ok(TableWriter {
+            writer,
+            schema,
+            tables,
+            batch: (BATCH_BYTES / width).clamp(1024, BATCH_STEPS),
         })
-        .sum::<usize>();
-    let batch = (BATCH_BYTES / width).clamp(1024, BATCH_STEPS);
-    for steps in times.chunks(batch) {
-        let mut columns: Vec<ArrayRef> = Vec::with_capacity(schema.fields().len());
-        columns.push(Arc::new(UInt64Array::from(steps.to_vec())));
-        for (table, rows) in tables.iter().zip(rows.iter_mut()) {
-            let picked: Vec<Option<Row<'_>>> = rows.by_ref().take(steps.len()).collect();
-            // An interpolated row's payload holds the earlier row's bytes but for its
-            // floats: every column reads from it, text included.
-            let payloads: Vec<Option<&[u8]>> =
-                picked.iter().map(|r| r.as_ref().map(Row::bytes)).collect();
+    }
+
+    /// Writes the steps `times`, with each table's row payload at each step.
+    pub(super) fn write(
+        &mut self,
+        times: &[u64],
+        payloads: &[Vec<Option<&[u8]>>],
+    ) -> Result<(), Error> {
+        let mut columns: Vec<ArrayRef> = Vec::with_capacity(self.schema.fields().len());
+        columns.push(Arc::new(UInt64Array::from(times.to_vec())));
+        for (table, payloads) in self.tables.iter().zip(payloads) {
             for (_, reader) in &table.columns {
-                columns.push(export::field_array(reader, &payloads).map_err(Error::Export)?);
+                columns.push(export::field_array(reader, payloads).map_err(Error::Export)?);
             }
         }
-        let batch =
-            RecordBatch::try_new(schema.clone(), columns).map_err(|e| Error::Parquet(e.into()))?;
-        writer.write(&batch).map_err(Error::Parquet)?;
-        if writer.in_progress_size() >= ROW_GROUP_BYTES {
-            writer.flush().map_err(Error::Parquet)?;
+        let batch = RecordBatch::try_new(self.schema.clone(), columns)
+            .map_err(|e| Error::Parquet(e.into()))?;
+        self.writer.write(&batch).map_err(Error::Parquet)?;
+        if self.writer.in_progress_size() >= ROW_GROUP_BYTES {
+            self.writer.flush().map_err(Error::Parquet)?;
         }
+        Ok(())
     }
-    writer.close().map(drop).map_err(Error::Parquet)
 }
 
 /// A Parquet error's text; an I/O error's as `ulog` words them.

@@ -29,7 +29,16 @@ pub struct TopicNotFound {
 impl TopicNotFound {
     /// What the log has instead of topic `name` (instance `multi_id`).
     pub(crate) fn in_log(log: &ULog<'_>, name: &str, multi_id: Option<u8>) -> TopicNotFound {
-        let topics = log.subscriptions();
+        TopicNotFound::in_subscriptions(log.subscriptions(), name, multi_id)
+    }
+
+    /// What `topics` (a log's subscriptions, or those a pass has met) have instead of
+    /// topic `name` (instance `multi_id`).
+    pub(crate) fn in_subscriptions(
+        topics: &[std::sync::Arc<Subscription>],
+        name: &str,
+        multi_id: Option<u8>,
+    ) -> TopicNotFound {
         let mut instances: Vec<u8> = topics
             .iter()
             .filter(|t| t.name() == name)

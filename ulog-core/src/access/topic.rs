@@ -106,48 +106,7 @@ impl<'l, 'a> Topic<'l, 'a> {
     /// Resolves a field path (`timestamp`, `q`, `q[2]`, `esc[3].esc_rpm`) once, to read
     /// it from every payload.
     pub fn field(&self, path: &str) -> Result<FieldReader, LookupError> {
-        let layout = self.layout()?;
-        let not_found = || {
-            let closest = crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str()));
-            // Nothing close (`roll` of a topic that holds a quaternion): what it has.
-            let fields = match closest {
-                Some(_) => Vec::new(),
-                None => layout
-                    .fields()
-                    .iter()
-                    .filter(|f| !f.is_padding())
-                    .map(|f| match f.array_len {
-                        Some(n) => format!("{}[{n}]", f.name),
-                        None => f.name.clone(),
-                    })
-                    .collect(),
-            };
-            LookupError::Field {
-                topic: self.name().to_owned(),
-                path: path.to_owned(),
-                closest,
-                fields,
-            }
-        };
-        let f = layout.find(path).ok_or_else(not_found)?;
-        let ty = match f.ty {
-            LayoutType::Basic(b) => b,
-            LayoutType::Nested(_) => return Err(not_found()),
-        };
-        if path.split('.').any(ulog_format::is_padding_name) {
-            return Err(not_found());
-        }
-        let shape = match (ty, f.is_array) {
-            (BasicType::Char, true) => FieldShape::String(f.count),
-            (_, true) => FieldShape::Array(f.count),
-            (_, false) => FieldShape::Scalar,
-        };
-        Ok(FieldReader {
-            path: path.to_owned(),
-            offset: f.offset,
-            ty,
-            shape,
-        })
+        field_in(self.name(), self.layout()?, path)
     }
 
     /// Readers for every leaf field (padding left out) in pyulog's column order:
@@ -254,4 +213,54 @@ impl<'a> ULog<'a> {
         v.sort_by_key(|t| t.multi_id());
         v
     }
+}
+
+/// Resolves field `path` in `layout`, the format of topic `topic` (named in the error):
+/// [`Topic::field`], for a layout known without a log.
+pub(crate) fn field_in(
+    topic: &str,
+    layout: &Layout,
+    path: &str,
+) -> Result<FieldReader, LookupError> {
+    let not_found = || {
+        let closest = crate::suggest::closest(path, layout.columns().map(|c| c.path.as_str()));
+        // Nothing close (`roll` of a topic that holds a quaternion): what it has.
+        let fields = match closest {
+            Some(_) => Vec::new(),
+            None => layout
+                .fields()
+                .iter()
+                .filter(|f| !f.is_padding())
+                .map(|f| match f.array_len {
+                    Some(n) => format!("{}[{n}]", f.name),
+                    None => f.name.clone(),
+                })
+                .collect(),
+        };
+        LookupError::Field {
+            topic: topic.to_owned(),
+            path: path.to_owned(),
+            closest,
+            fields,
+        }
+    };
+    let f = layout.find(path).ok_or_else(not_found)?;
+    let ty = match f.ty {
+        LayoutType::Basic(b) => b,
+        LayoutType::Nested(_) => return Err(not_found()),
+    };
+    if path.split('.').any(ulog_format::is_padding_name) {
+        return Err(not_found());
+    }
+    let shape = match (ty, f.is_array) {
+        (BasicType::Char, true) => FieldShape::String(f.count),
+        (_, true) => FieldShape::Array(f.count),
+        (_, false) => FieldShape::Scalar,
+    };
+    Ok(FieldReader {
+        path: path.to_owned(),
+        offset: f.offset,
+        ty,
+        shape,
+    })
 }

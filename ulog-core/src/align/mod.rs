@@ -50,6 +50,13 @@
 //! A topic's rows are found once, by time (12 bytes per row: its timestamp and
 //! index); the values stay in the log's payloads and are decoded step by step.
 //!
+//! **In one pass**: [`AlignStream`] makes the same alignment reading the log once in
+//! file order, from any `Read` (a file, a pipe, a log larger than memory), holding only
+//! the steps not yet decided and the rows their methods still need (about the horizon,
+//! 10 s of the log, at most); where its values could differ from these (a row written
+//! long after its time, a topic silent for longer than the horizon) it says so
+//! ([`StreamSummary`]).
+//!
 //! # Time
 //!
 //! Every time here is a boot time in microseconds, as the rows' `timestamp` fields
@@ -72,6 +79,7 @@ mod aligned;
 mod interp;
 mod ordered;
 mod select;
+mod stream;
 mod time_index;
 
 #[doc(hidden)]
@@ -79,6 +87,10 @@ pub use aligned::{__Check, __Next};
 pub use aligned::{Aligned, AlignedError, AlignedField, AlignedSteps};
 pub use ordered::TimeOrdered;
 pub use select::{SelectedColumns, Selection, SelectionError};
+pub use stream::{
+    AlignStream, StreamError, StreamOptions, StreamStep, StreamSummary, Track, TrackReport,
+    DEFAULT_HORIZON_US,
+};
 pub use time_index::TimeIndex;
 /// The derive of [`Aligned`] (feature `derive`).
 #[cfg(feature = "derive")]
@@ -195,16 +207,32 @@ impl AlignOptions {
         start: Option<f64>,
         end: Option<f64>,
     ) -> Result<AlignOptions, AlignError> {
+        let mut options = AlignOptions::since_start(tolerance, None, None)?;
+        let span = log.span();
+        options.start_us = start.map(|s| span.at(s));
+        options.end_us = end.map(|s| span.at(s));
+        Ok(options)
+    }
+
+    /// The same options with the window in microseconds since the log's start, as a
+    /// [one-pass alignment](AlignStream) takes it
+    /// ([`StreamOptions::window_from_start`]): a pass knows the start only as the
+    /// header gives it. Times before the start are the start.
+    pub fn since_start(
+        tolerance: Option<f64>,
+        start: Option<f64>,
+        end: Option<f64>,
+    ) -> Result<AlignOptions, AlignError> {
         if let Some(t) = tolerance {
             if !(t >= 0.0 && t.is_finite()) {
                 return Err(AlignError::Tolerance(t));
             }
         }
-        let span = log.span();
+        let us = |s: f64| (s * 1e6).round().max(0.0) as u64;
         Ok(AlignOptions {
-            tolerance_us: tolerance.map(|s| (s * 1e6).round() as u64),
-            start_us: start.map(|s| span.at(s)),
-            end_us: end.map(|s| span.at(s)),
+            tolerance_us: tolerance.map(us),
+            start_us: start.map(us),
+            end_us: end.map(us),
         })
     }
 }
@@ -490,53 +518,84 @@ impl<'s, 'a> Rows<'s, 'a> {
         };
     }
 
-    /// Whether a row `d` microseconds from its step is within the tolerance.
-    fn near(&self, d: u64) -> bool {
-        self.tolerance.map_or(true, |tol| d <= tol)
-    }
-
     /// The row (position in the series) the method picks at `t`, or the two rows and
     /// the fraction between them to interpolate at.
     fn pick(&mut self, t: u64) -> Option<Pick> {
         let (before, after) = self.cursor.around(&self.series, t);
         let times = &self.series.times;
-        let d_before = before.map(|i| t - times[i]);
-        let d_after = after.map(|i| times[i] - t);
-        match self.method {
-            Method::Previous => {
-                let d = d_before?;
-                before.filter(|_| self.near(d)).map(Pick::Row)
-            }
-            Method::Nearest => {
-                let pick = match (d_before, d_after) {
-                    (Some(b), Some(a)) if a < b => after,
-                    (Some(_), _) => before,
-                    (None, _) => after,
-                };
-                let d = pick.map(|i| times[i].abs_diff(t))?;
-                pick.filter(|_| self.near(d)).map(Pick::Row)
-            }
-            Method::Linear => {
-                let (b, d) = (before?, d_before?);
-                if d == 0 || self.lerp.is_empty() && after.is_some() {
-                    // On a row, or nothing to interpolate: the earlier row (within
-                    // the span of the topic).
-                    return self.near(d).then_some(Pick::Row(b));
-                }
-                let a = after?;
-                if !(self.near(d) && self.near(d_after?)) {
-                    return None;
-                }
-                let w = (t - times[b]) as f64 / (times[a] - times[b]) as f64;
-                Some(Pick::Between(b, a, w))
-            }
-        }
+        let choice = choose(
+            self.method,
+            self.tolerance,
+            self.lerp.is_empty(),
+            t,
+            before.map(|i| times[i]),
+            after.map(|i| times[i]),
+        )?;
+        Some(match choice {
+            Choice::Before => Pick::Row(before?),
+            Choice::After => Pick::Row(after?),
+            Choice::Between(w) => Pick::Between(before?, after?, w),
+        })
     }
 
     /// The payload of series position `i`.
     fn payload(&self, i: usize) -> &'a [u8] {
         let row = self.series.rows[i] as usize;
         self.topic.payload(row).unwrap_or_default()
+    }
+}
+
+/// What a method takes at a step, of the last row at or before it and the first after
+/// it ([`choose`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Choice {
+    /// The row at or before the step.
+    Before,
+    /// The row after it.
+    After,
+    /// Interpolated at this fraction from the row before to the row after.
+    Between(f64),
+}
+
+/// The one rule of the methods (the [module](self) has it in words), for the indexed
+/// alignment and the one-pass one alike: at step `t`, given the times of the last row
+/// at or before it and of the first after it, and whether the format has anything to
+/// interpolate (`nothing_to_lerp`).
+pub(crate) fn choose(
+    method: Method,
+    tolerance: Option<u64>,
+    nothing_to_lerp: bool,
+    t: u64,
+    before: Option<u64>,
+    after: Option<u64>,
+) -> Option<Choice> {
+    let near = |d: u64| tolerance.map_or(true, |tol| d <= tol);
+    let d_before = before.map(|b| t - b);
+    let d_after = after.map(|a| a - t);
+    match method {
+        Method::Previous => near(d_before?).then_some(Choice::Before),
+        Method::Nearest => {
+            let (choice, d) = match (d_before, d_after) {
+                (Some(b), Some(a)) if a < b => (Choice::After, a),
+                (Some(b), _) => (Choice::Before, b),
+                (None, Some(a)) => (Choice::After, a),
+                (None, None) => return None,
+            };
+            near(d).then_some(choice)
+        }
+        Method::Linear => {
+            let d = d_before?;
+            if d == 0 || nothing_to_lerp && after.is_some() {
+                // On a row, or nothing to interpolate: the earlier row (within the
+                // span of the topic).
+                return near(d).then_some(Choice::Before);
+            }
+            let da = d_after?;
+            if !(near(d) && near(da)) {
+                return None;
+            }
+            Some(Choice::Between(d as f64 / (d + da) as f64))
+        }
     }
 }
 

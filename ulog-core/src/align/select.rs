@@ -2,10 +2,12 @@
 //! align` and `ulog_rs.ULog.align` take it) and the columns it names
 //! ([`ULog::select_columns`]), named and ordered as `ulog csv` names and orders them.
 
-use super::{AlignError, Grid};
+use ulog_format::Layout;
+
+use super::{AlignError, Grid, Method, Track};
 use crate::access::field::FieldReader;
 use crate::access::lookup::LookupError;
-use crate::access::topic::Topic;
+use crate::access::topic::{field_in, Topic};
 use crate::log::ulog::ULog;
 
 /// A topic instance and, optionally, one field of it: `topic`, `topic:N`,
@@ -156,7 +158,15 @@ fn columns_of(
     topic: &Topic<'_, '_>,
     field: Option<&str>,
 ) -> Result<Vec<(String, FieldReader)>, LookupError> {
-    let layout = topic.layout()?;
+    columns_in(topic.name(), topic.layout()?, field)
+}
+
+/// [`columns_of`] in `layout`, the format of topic `name`.
+fn columns_in(
+    name: &str,
+    layout: &Layout,
+    field: Option<&str>,
+) -> Result<Vec<(String, FieldReader)>, LookupError> {
     let under = |path: &str| match field {
         None => true,
         Some(f) => {
@@ -174,7 +184,7 @@ fn columns_of(
     if let Some(f) = field {
         if paths.is_empty() {
             // Not a value leaf: the reader's own error names the closest field.
-            topic.field(f)?;
+            field_in(name, layout, f)?;
         }
     }
     if let Some(i) = paths.iter().position(|p| p == "timestamp") {
@@ -183,8 +193,24 @@ fn columns_of(
     }
     paths
         .into_iter()
-        .map(|p| topic.field(&p).map(|r| (p, r)))
+        .map(|p| field_in(name, layout, &p).map(|r| (p, r)))
         .collect()
+}
+
+impl Selection {
+    /// The columns this selection names in `layout`, its topic's format (as
+    /// [`AlignStream::layouts`](super::AlignStream::layouts) gives it), as
+    /// [`ULog::select_columns`] names and orders them.
+    pub fn columns(&self, layout: &Layout) -> Result<Vec<(String, FieldReader)>, LookupError> {
+        columns_in(&self.topic, layout, self.field.as_deref())
+    }
+
+    /// The topic instance a [one-pass alignment](super::AlignStream) reads for this
+    /// selection, by `method`: without an instance, instance 0 (a pass cannot know
+    /// the lowest the log has before its end).
+    pub fn track(&self, method: Method) -> Track {
+        Track::new(&self.topic, self.instance.unwrap_or(0), method)
+    }
 }
 
 #[cfg(test)]

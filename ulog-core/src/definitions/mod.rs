@@ -133,6 +133,15 @@ impl Definitions {
         }
     }
 
+    /// The layout of format `name` as the formats stand now; `None` when no format
+    /// has that name.
+    pub fn layout_of(&self, name: &str) -> Option<Result<Arc<Layout>, LayoutError>> {
+        if !self.formats.contains_key(name) {
+            return None;
+        }
+        Some(Resolver::new(Limits::default()).resolve(name, &*self.formats))
+    }
+
     /// A format (`F`) message's payload; what is wrong with it, if anything.
     pub fn format(&mut self, payload: &[u8]) -> Option<FindingKind> {
         let format = match Format::parse_bytes(payload) {

@@ -144,6 +144,20 @@ impl PushReader {
         Some(&self.framer.defs.subscriptions()[i as usize])
     }
 
+    /// The layout of format `name` as the formats met so far define it; `None` when
+    /// none of them has that name.
+    pub(crate) fn layout_of(
+        &self,
+        name: &str,
+    ) -> Option<Result<Arc<ulog_format::Layout>, ulog_format::LayoutError>> {
+        self.framer.defs.layout_of(name)
+    }
+
+    /// Every subscription met so far, in the order of their first `A` messages.
+    pub(crate) fn subscriptions(&self) -> &[Arc<Subscription>] {
+        self.framer.defs.subscriptions()
+    }
+
     /// Bytes currently buffered (for checking the memory bound).
     pub fn buffered(&self) -> usize {
         self.buf.len()
