@@ -399,3 +399,94 @@ fn a_topic_the_log_lacks_and_a_grid_without_timestamp_are_errors() {
     .unwrap();
     assert!(matches!(s.next_step(), Err(StreamError::Read(_))));
 }
+
+#[derive(ulog_core::ULogMessage, Debug, Clone, PartialEq)]
+#[ulog(name = "sensor_combined")]
+struct Imu {
+    timestamp: u64,
+    gyro_rad: [f32; 3],
+}
+
+#[derive(ulog_core::ULogMessage, Debug, Clone, PartialEq)]
+#[ulog(name = "vehicle_attitude")]
+struct Attitude {
+    timestamp: u64,
+    q: [f32; 4],
+}
+
+#[derive(ulog_core::align::Aligned, Debug, PartialEq)]
+struct Step {
+    imu: Option<Imu>,
+    #[ulog(method = "linear")]
+    attitude: Option<Attitude>,
+    #[ulog(method = "nearest")]
+    nearest: Option<Attitude>,
+}
+
+#[test]
+fn a_derived_struct_in_one_pass_equals_the_indexed_one_on_every_corpus_log() {
+    use ulog_core::align::AlignedStream;
+    let mut checked = 0;
+    for path in ulog_tests::corpus_files() {
+        let bytes = std::fs::read(&path).unwrap();
+        let Ok(log) = ULog::parse(&bytes) else {
+            continue;
+        };
+        let grid = Grid::topic("sensor_combined", 0);
+        let Ok(steps) = log.align(&grid, &AlignOptions::default()) else {
+            continue;
+        };
+        let Ok(indexed) = steps.read::<Step>() else {
+            continue;
+        };
+        let indexed: Vec<(u64, Step)> = indexed.collect();
+        let mut one_pass =
+            AlignedStream::<_, Step>::new(&bytes[..], &grid, wait_forever()).unwrap();
+        let mut streamed = Vec::new();
+        while let Some(step) = one_pass.next_step().unwrap() {
+            streamed.push(step);
+        }
+        let name = ulog_tests::stem(&path);
+        if one_pass.summary().is_exact() {
+            assert_eq!(streamed.len(), indexed.len(), "{name}");
+            assert!(streamed == indexed, "{name}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 1);
+}
+
+#[test]
+fn every_field_of_a_struct_that_does_not_fit_is_named_at_once_in_one_pass() {
+    #[derive(ulog_core::ULogMessage)]
+    #[ulog(name = "x")]
+    struct WrongType {
+        timestamp: u64,
+        v: u32,
+    }
+    #[derive(ulog_core::ULogMessage)]
+    #[ulog(name = "absent")]
+    struct Absent {
+        timestamp: u64,
+    }
+    #[derive(ulog_core::align::Aligned)]
+    #[allow(dead_code)] // never read: it does not fit
+    struct Both {
+        x: Option<WrongType>,
+        absent: Option<Absent>,
+    }
+    let bytes = written(2, |_| false).into_bytes();
+    let e = match ulog_core::align::AlignedStream::<_, Both>::new(
+        &bytes[..],
+        &Grid::topic("grid", 0),
+        StreamOptions::default(),
+    ) {
+        Err(StreamError::Aligned(e)) => e,
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("fits"),
+    };
+    let fields: Vec<&str> = e.fields().iter().map(|(f, _)| f.field).collect();
+    assert_eq!(fields, ["x", "absent"], "{e}");
+    let text = e.to_string();
+    assert!(text.contains("`v`") && text.contains("absent"), "{text}");
+}

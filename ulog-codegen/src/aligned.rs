@@ -163,7 +163,15 @@ fn expand(ident: &syn::Ident, members: &[Member], paths: &Paths) -> TokenStream 
         let ty = &m.binding;
         quote!(let #v = __check.topic::<#ty>(#i);)
     });
-    let names = members.iter().map(|m| &m.ident);
+    let names: Vec<_> = members.iter().map(|m| &m.ident).collect();
+    let plans = members.iter().zip(&vars).enumerate().map(|(i, (m, v))| {
+        let ty = &m.binding;
+        quote!(let #v = __plans.plan::<#ty>(#i);)
+    });
+    let decodes = vars
+        .iter()
+        .enumerate()
+        .map(|(i, v)| quote!(#align::__decode(&#v, __rows, #i)));
     quote! {
         const _: () = {
             #[automatically_derived]
@@ -189,6 +197,22 @@ fn expand(ident: &syn::Ident, members: &[Member], paths: &Paths) -> TokenStream 
                             ))
                         }
                         _ => ::core::result::Result::Err(__check.error()),
+                    }
+                }
+                fn __decoder(
+                    __layouts: &#align::__Layouts,
+                ) -> ::core::result::Result<#align::__Decode<Self>, #align::AlignedError> {
+                    let mut __plans = #align::__Plans::new(__layouts, Self::FIELDS);
+                    #(#plans)*
+                    match (#(#vars,)*) {
+                        (#(::core::option::Option::Some(#vars),)*) => {
+                            ::core::result::Result::Ok(::std::boxed::Box::new(
+                                move |__rows: &[::core::option::Option<#align::Row<'_>>]| Self {
+                                    #(#names: #decodes,)*
+                                },
+                            ))
+                        }
+                        _ => ::core::result::Result::Err(__plans.error()),
                     }
                 }
             }

@@ -58,6 +58,78 @@ pub trait Aligned: Sized {
     /// entry of the error.
     #[doc(hidden)]
     fn open<'s>(steps: &'s Alignment<'_, '_>) -> Result<__Next<'s, Self>, AlignedError>;
+
+    /// Checks every field's binding against its topic's layout, for a one-pass
+    /// alignment (generated; call [`AlignedStream::new`](super::AlignedStream::new)).
+    #[doc(hidden)]
+    fn __decoder(layouts: &__Layouts) -> Result<__Decode<Self>, AlignedError>;
+}
+
+/// Each field's topic layout, or why there is none (generated code's use).
+#[doc(hidden)]
+pub type __Layouts = [Result<std::sync::Arc<ulog_format::Layout>, TypedError>];
+
+/// Decodes a struct from the rows of a one-pass step (generated code's use).
+#[doc(hidden)]
+pub type __Decode<S> = Box<dyn Fn(&[Option<super::Row<'_>>]) -> S>;
+
+/// The plans of a struct's fields for their layouts, every misfit collected
+/// (generated code's use).
+#[doc(hidden)]
+pub struct __Plans<'l> {
+    layouts: &'l __Layouts,
+    fields: &'static [AlignedField],
+    errors: Vec<(AlignedField, TypedError)>,
+}
+
+impl<'l> __Plans<'l> {
+    #[doc(hidden)]
+    pub fn new(layouts: &'l __Layouts, fields: &'static [AlignedField]) -> Self {
+        __Plans {
+            layouts,
+            fields,
+            errors: Vec::new(),
+        }
+    }
+
+    /// Field `i`'s plan, or its error noted.
+    #[doc(hidden)]
+    pub fn plan<T: ULogMessage>(&mut self, i: usize) -> Option<crate::typed::Plan<T>> {
+        let field = self.fields[i];
+        let layout = match &self.layouts[i] {
+            Ok(l) => l,
+            Err(e) => {
+                self.errors.push((field, e.clone()));
+                return None;
+            }
+        };
+        match crate::typed::Plan::<T>::new(layout) {
+            Ok(p) => Some(p),
+            Err(m) => {
+                let kind = crate::typed::TypedErrorKind::Mismatch(Box::new(m));
+                self.errors.push((field, TypedError::new(kind, None, None)));
+                None
+            }
+        }
+    }
+
+    #[doc(hidden)]
+    pub fn error(self) -> AlignedError {
+        AlignedError {
+            fields: self.errors,
+        }
+    }
+}
+
+/// Field `i`'s value in a one-pass step's rows (generated code's use).
+#[doc(hidden)]
+pub fn __decode<T: ULogMessage>(
+    plan: &crate::typed::Plan<T>,
+    rows: &[Option<super::Row<'_>>],
+    i: usize,
+) -> Option<T> {
+    let row = rows.get(i)?.as_ref()?;
+    plan.decode(row.bytes()).ok()
 }
 
 /// One field of an [`Aligned`] struct.

@@ -55,7 +55,7 @@
 //! the steps not yet decided and the rows their methods still need (about the horizon,
 //! 10 s of the log, at most); where its values could differ from these (a row written
 //! long after its time, a topic silent for longer than the horizon) it says so
-//! ([`StreamSummary`]).
+//! ([`StreamSummary`]). [`AlignedStream`] reads an [`Aligned`] struct that way.
 //!
 //! # Time
 //!
@@ -83,13 +83,13 @@ mod stream;
 mod time_index;
 
 #[doc(hidden)]
-pub use aligned::{__Check, __Next};
+pub use aligned::{__Check, __Decode, __Layouts, __Next, __Plans, __decode};
 pub use aligned::{Aligned, AlignedError, AlignedField, AlignedSteps};
 pub use ordered::TimeOrdered;
 pub use select::{SelectedColumns, Selection, SelectionError};
 pub use stream::{
-    AlignStream, StreamError, StreamOptions, StreamStep, StreamSummary, Track, TrackReport,
-    DEFAULT_HORIZON_US,
+    AlignStream, AlignedStream, StreamError, StreamOptions, StreamStep, StreamSummary, Track,
+    TrackReport, DEFAULT_HORIZON_US,
 };
 pub use time_index::TimeIndex;
 /// The derive of [`Aligned`] (feature `derive`).

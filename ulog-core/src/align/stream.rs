@@ -5,6 +5,7 @@ use std::collections::VecDeque;
 use std::io::Read;
 use std::sync::Arc;
 
+use super::aligned::{Aligned, AlignedError};
 use super::interp::Lerp;
 use super::{choose, AlignError, AlignOptions, Choice, Grid, Method, Row};
 use crate::access::lookup::{LookupError, TopicNotFound};
@@ -15,6 +16,8 @@ use crate::log::message::Message;
 use crate::log::span::JUMP_US;
 use crate::pass::stream::StreamReader;
 use crate::read::{TimestampField, Unwrapper};
+use crate::typed::error::TypedError;
+use crate::typed::TypedErrorKind;
 use ulog_format::Layout;
 
 /// The horizon a one-pass alignment waits for a topic's next row by default: 10 s.
@@ -78,6 +81,8 @@ pub enum StreamError {
     /// The alignment cannot be made (a topic the log does not have, a grid topic
     /// without a timestamp, a bad rate or tolerance).
     Align(AlignError),
+    /// Fields of an [`Aligned`] struct that do not fit the log, all of them.
+    Aligned(AlignedError),
 }
 
 impl core::fmt::Display for StreamError {
@@ -85,6 +90,7 @@ impl core::fmt::Display for StreamError {
         match self {
             StreamError::Read(e) => write!(f, "{e}"),
             StreamError::Align(e) => write!(f, "{e}"),
+            StreamError::Aligned(e) => write!(f, "{e}"),
         }
     }
 }
@@ -94,6 +100,7 @@ impl std::error::Error for StreamError {
         match self {
             StreamError::Read(e) => Some(e),
             StreamError::Align(e) => Some(e),
+            StreamError::Aligned(e) => Some(e),
         }
     }
 }
@@ -405,6 +412,19 @@ impl<R: Read> AlignStream<R> {
     /// definitions, before its data, as PX4 writes them); an error if the log ends
     /// first.
     pub fn layouts(&mut self) -> Result<Vec<Arc<Layout>>, StreamError> {
+        self.find_layouts()?;
+        if self.tracks.iter().any(|t| t.layout.is_none()) {
+            return Err(self.missing().into());
+        }
+        Ok(self
+            .tracks
+            .iter()
+            .filter_map(|t| t.layout.clone())
+            .collect())
+    }
+
+    /// Reads on until every topic's format is defined, or the log ends.
+    fn find_layouts(&mut self) -> Result<(), StreamError> {
         loop {
             for tr in &mut self.tracks {
                 if tr.layout.is_none() {
@@ -413,15 +433,8 @@ impl<R: Read> AlignStream<R> {
                     }
                 }
             }
-            if self.tracks.iter().all(|t| t.layout.is_some()) {
-                return Ok(self
-                    .tracks
-                    .iter()
-                    .filter_map(|t| t.layout.clone())
-                    .collect());
-            }
-            if self.ended {
-                return Err(self.missing().into());
+            if self.ended || self.tracks.iter().all(|t| t.layout.is_some()) {
+                return Ok(());
             }
             self.read_one()?;
         }
@@ -814,5 +827,97 @@ impl<R: Read> AlignStream<R> {
             }
         }
         self.summary.pending_peak = self.summary.pending_peak.max(self.pending.len());
+    }
+}
+
+/// A one-pass alignment of a struct of topics ([`Aligned`], `#[derive(Aligned)]`):
+/// each step the struct, each field its topic's value by its method, decoded by its
+/// binding. The fields' bindings are checked against the log's formats once, before
+/// the first step, every field that does not fit reported together.
+///
+/// The topics are the bindings' names (their aliases are not tried: a pass cannot
+/// look for a topic again).
+///
+/// ```
+/// # #[cfg(feature = "derive")] {
+/// use ulog_core::align::{Aligned, AlignedStream, Grid, StreamOptions};
+/// use ulog_core::ULogMessage;
+///
+/// #[derive(ULogMessage)]
+/// # #[ulog(crate = "ulog_core")]
+/// struct VehicleAttitude { timestamp: u64, q: [f32; 4] }
+/// #[derive(ULogMessage)]
+/// # #[ulog(crate = "ulog_core")]
+/// struct BatteryStatus { timestamp: u64, voltage_v: f32 }
+///
+/// #[derive(Aligned)]
+/// # #[ulog(crate = "ulog_core")]
+/// struct Now {
+///     attitude: Option<VehicleAttitude>,
+///     #[ulog(method = "linear")]
+///     battery: Option<BatteryStatus>,
+/// }
+///
+/// # let bytes = ulog_core::testing::sample_log();
+/// let grid = Grid::topic("vehicle_attitude", 0);
+/// let mut steps = AlignedStream::<_, Now>::new(&bytes[..], &grid, StreamOptions::default())?;
+/// while let Some((t, now)) = steps.next_step()? {
+///     assert_eq!(now.attitude.unwrap().timestamp, t);
+///     if let Some(b) = now.battery {
+///         assert!(b.voltage_v > 10.0);
+///     }
+/// }
+/// # }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct AlignedStream<R, S> {
+    stream: AlignStream<R>,
+    decode: super::aligned::__Decode<S>,
+}
+
+impl<R: Read, S: Aligned> AlignedStream<R, S> {
+    /// The steps of `grid` over the log `src`, as structs `S`: reads the log's
+    /// definitions and checks every field's binding against its topic's format.
+    pub fn new(src: R, grid: &Grid, options: StreamOptions) -> Result<Self, StreamError> {
+        let tracks = S::FIELDS
+            .iter()
+            .map(|f| Track::new(f.topic, f.multi_id, f.method))
+            .collect();
+        let mut stream = AlignStream::new(src, grid, tracks, options)?;
+        stream.find_layouts()?;
+        let subs = stream.reader.state().subscriptions();
+        let layouts: Vec<Result<Arc<Layout>, TypedError>> = stream
+            .tracks
+            .iter()
+            .map(|t| match &t.layout {
+                Some(l) => Ok(l.clone()),
+                None => {
+                    let missing =
+                        TopicNotFound::in_subscriptions(subs, &t.want.topic, Some(t.want.multi_id));
+                    let kind = TypedErrorKind::NotFound {
+                        missing,
+                        binding: None,
+                        named_after_struct: false,
+                    };
+                    Err(TypedError::new(kind, None, None))
+                }
+            })
+            .collect();
+        let decode = S::__decoder(&layouts).map_err(StreamError::Aligned)?;
+        Ok(AlignedStream { stream, decode })
+    }
+
+    /// The next step's time and struct, or `None` after the last.
+    pub fn next_step(&mut self) -> Result<Option<(u64, S)>, StreamError> {
+        let decode = &self.decode;
+        Ok(self
+            .stream
+            .next_step()?
+            .map(|step| (step.time, decode(&step.rows))))
+    }
+
+    /// What the pass met and held so far ([`AlignStream::summary`]).
+    pub fn summary(&self) -> StreamSummary {
+        self.stream.summary()
     }
 }
