@@ -490,3 +490,106 @@ fn every_field_of_a_struct_that_does_not_fit_is_named_at_once_in_one_pass() {
     let text = e.to_string();
     assert!(text.contains("`v`") && text.contains("absent"), "{text}");
 }
+
+/// A log with `grid` and `x` (`float v`), written in the order given: `(msg_id, t)`.
+fn in_order(rows: &[(u16, u64)], unsubscribe_after: Option<usize>) -> Vec<u8> {
+    let mut b = LogBuilder::new(1, 1_000);
+    b.format("grid:uint64_t timestamp;float v;");
+    b.format("x:uint64_t timestamp;float v;");
+    b.subscribe(0, 0, "grid");
+    b.subscribe(0, 1, "x");
+    for (i, &(id, t)) in rows.iter().enumerate() {
+        b.data(id, &row(t, t as f32));
+        if unsubscribe_after == Some(i) {
+            // x ends, and is subscribed again under another msg_id.
+            b.unsubscribe(1);
+            b.subscribe(0, 2, "x");
+        }
+    }
+    b.into_bytes()
+}
+
+#[test]
+fn a_row_that_comes_back_in_time_after_a_step_it_would_change_is_reported() {
+    // x at 0.1 s and 0.4 s, a step at 0.25 s, then x at 0.3 s: nearest and linear at
+    // the step would take it (the indexed alignment does).
+    let bytes = in_order(
+        &[(1, 100_000), (1, 400_000), (0, 250_000), (1, 300_000)],
+        None,
+    );
+    let log = ULog::parse(&bytes).unwrap();
+    let grid = Grid::topic("grid", 0);
+    let want = indexed(&log, &grid, &tracks(), &AlignOptions::default());
+    let (got, summary) = streamed(&bytes, &grid, &tracks(), StreamOptions::default());
+    assert_ne!(got, want);
+    assert!(!summary.is_exact());
+    assert!(
+        summary.tracks.iter().skip(1).all(|t| t.late_rows == 1),
+        "{summary:?}"
+    );
+}
+
+#[test]
+fn a_topic_subscribed_again_is_waited_for() {
+    // x at 0.1 s, unsubscribed and subscribed again, a step at 0.25 s, x at 0.26 s.
+    let rows = [(1, 100_000), (0, 250_000), (2, 260_000)];
+    let bytes = in_order(&rows, Some(0));
+    let log = ULog::parse(&bytes).unwrap();
+    let grid = Grid::topic("grid", 0);
+    let want = indexed(&log, &grid, &tracks(), &AlignOptions::default());
+    let (got, summary) = streamed(&bytes, &grid, &tracks(), StreamOptions::default());
+    assert!(summary.is_exact(), "{summary:?}");
+    assert_eq!(got, want);
+}
+
+#[test]
+fn rows_outside_the_window_and_after_the_steps_are_not_held() {
+    let bytes = written(200, |_| false).into_bytes();
+    let log = ULog::parse(&bytes).unwrap();
+    let grid = Grid::topic("grid", 0);
+    let bound = 3 * (12 * 10 + 2); // three tracks of x (10 Hz), 12 s each, at most
+                                   // A window late in the log, and one early: the same steps as the indexed
+                                   // alignment's, few rows held.
+    for (start, end) in [(Some(190_000_000), None), (None, Some(1_000_000))] {
+        let since_boot = AlignOptions::default()
+            .window_us(start.map(|s: u64| s + 1_000), end.map(|e: u64| e + 1_000));
+        let want = indexed(&log, &grid, &tracks(), &since_boot);
+        let options = StreamOptions {
+            align: since_boot,
+            ..StreamOptions::default()
+        };
+        let (got, summary) = streamed(&bytes, &grid, &tracks(), options);
+        assert_eq!(got, want, "{start:?} {end:?}");
+        assert!(
+            summary.held_rows_peak <= bound,
+            "{start:?} {end:?}: {summary:?}"
+        );
+    }
+    // The grid's rows end at 10 s, x's at 5 s, a third topic logs on to 200 s: the
+    // last steps are decided by the horizon, and the third topic's rows let go.
+    let mut b = LogBuilder::new(1, 1_000);
+    b.format("grid:uint64_t timestamp;float v;");
+    b.format("x:uint64_t timestamp;float v;");
+    b.format("y:uint64_t timestamp;float v;");
+    b.subscribe(0, 0, "grid");
+    b.subscribe(0, 1, "x");
+    b.subscribe(0, 2, "y");
+    for k in 0..20_000u64 {
+        let t = 1_000 + k * 10_000;
+        if k < 1_000 {
+            b.data(0, &row(t, 0.0));
+        }
+        if k < 500 && k % 10 == 0 {
+            b.data(1, &row(t, 1.0));
+        }
+        b.data(2, &row(t, 2.0));
+    }
+    let bytes = b.into_bytes();
+    let three = vec![
+        Track::new("x", 0, Method::Linear),
+        Track::new("y", 0, Method::Previous),
+    ];
+    let (got, summary) = streamed(&bytes, &grid, &three, StreamOptions::default());
+    assert_eq!(got.len(), 1_000);
+    assert!(summary.held_rows_peak < 1_500, "{summary:?}");
+}

@@ -197,6 +197,8 @@ struct TrackState {
     rows: VecDeque<(u64, Vec<u8>)>,
     /// The msg_id its rows came with last (or its subscription's).
     msg_id: Option<u16>,
+    /// The latest time of its rows read.
+    max_seen: Option<u64>,
     /// Unsubscribed: no row is to come (until it is subscribed again).
     closed: bool,
     /// Steps handed out by the horizon without a row after them since the last row.
@@ -333,6 +335,8 @@ pub struct AlignStream<R> {
     /// The last step handed out.
     emitted: Option<u64>,
     ended: bool,
+    /// Ended at the window's end, before the log's.
+    stopped_early: bool,
     /// The roles of each subscription (by index), found when first met.
     roles: Vec<Option<Arc<Roles>>>,
     /// Payload buffers of rows let go, used again.
@@ -383,6 +387,7 @@ impl<R: Read> AlignStream<R> {
                 lerp: Lerp::default(),
                 rows: VecDeque::new(),
                 msg_id: None,
+                max_seen: None,
                 closed: false,
                 undecided: 0,
                 report: TrackReport::default(),
@@ -398,6 +403,7 @@ impl<R: Read> AlignStream<R> {
             jump: None,
             emitted: None,
             ended: false,
+            stopped_early: false,
             roles: Vec::new(),
             free: Vec::new(),
             scratch: Vec::new(),
@@ -456,7 +462,7 @@ impl<R: Read> AlignStream<R> {
             if self.ended && self.pending.is_empty() {
                 // A topic never subscribed is not in the log (its steps so far had it
                 // absent, as they would have had before its first row).
-                if !self.all_subscribed() {
+                if !self.stopped_early && !self.all_subscribed() {
                     return Err(self.missing().into());
                 }
                 self.summary.findings = self.reader.state().findings().to_vec();
@@ -474,7 +480,8 @@ impl<R: Read> AlignStream<R> {
             let after = tr.rows.partition_point(|(rt, _)| *rt <= t);
             let before = after.checked_sub(1);
             let after = (after < tr.rows.len()).then_some(after);
-            if after.is_none() && by_horizon && !tr.closed && tr.want.method != Method::Previous {
+            // Counted when a row comes after all (a topic subscribed again).
+            if after.is_none() && by_horizon && tr.want.method != Method::Previous {
                 tr.undecided += 1;
             }
             let choice = choose(
@@ -570,10 +577,7 @@ impl<R: Read> AlignStream<R> {
     /// Whether step time `t` is in the window.
     fn in_window(&self, t: u64) -> bool {
         let a = &self.options.align;
-        let base = match self.options.window_from_start {
-            true => self.reader.state().header().map_or(0, |h| h.timestamp),
-            false => 0,
-        };
+        let base = self.window_base();
         a.start_us.map_or(true, |s| t >= base.saturating_add(s))
             && a.end_us.map_or(true, |e| t < base.saturating_add(e))
     }
@@ -614,7 +618,13 @@ impl<R: Read> AlignStream<R> {
                 // Bound when subscribed, not at the first row: a topic that logs
                 // seldom must not hold the steps up until it does.
                 if let Some(sub) = self.reader.state().subscription(msg_id).cloned() {
-                    self.roles_of(&sub)?;
+                    // A topic subscribed again (framing keeps it one subscription):
+                    // rows are to come again.
+                    let roles = self.roles_of(&sub)?;
+                    for &k in &roles.tracks {
+                        self.tracks[k].closed = false;
+                        self.tracks[k].msg_id = Some(msg_id);
+                    }
                 }
                 return Ok(());
             }
@@ -662,7 +672,52 @@ impl<R: Read> AlignStream<R> {
         }
         self.scratch = payload;
         self.rate_steps();
+        if self.pending.is_empty() {
+            // No step waits: the rows before the earliest a step still to come may
+            // have are let go, and past the window's end the pass stops.
+            if let Some(floor) = self.floor() {
+                self.trim(floor);
+                let end = self.end_us();
+                let done = match self.steps {
+                    Steps::Topic { .. } => end.is_some_and(|e| floor >= e),
+                    Steps::Rate { .. } => {
+                        end.is_some_and(|e| self.watermark.is_some_and(|w| w >= e))
+                    }
+                };
+                if done {
+                    self.ended = true;
+                    self.stopped_early = true;
+                }
+            }
+        }
         Ok(())
+    }
+
+    /// The earliest time a step still to come may have: not before the last one
+    /// handed out, the window's start, or the pass's clock less the horizon (a grid row
+    /// further behind is late).
+    fn floor(&self) -> Option<u64> {
+        let base = self.window_base();
+        let start = self.options.align.start_us.map(|s| base.saturating_add(s));
+        let clock = self
+            .watermark
+            .filter(|_| self.options.horizon_us != u64::MAX)
+            .map(|w| w.saturating_sub(self.options.horizon_us));
+        [self.emitted, start, clock].into_iter().flatten().max()
+    }
+
+    /// The window's end as a boot time, if it has one.
+    fn end_us(&self) -> Option<u64> {
+        let base = self.window_base();
+        self.options.align.end_us.map(|e| base.saturating_add(e))
+    }
+
+    /// What the window's times count from: the header's start, or boot.
+    fn window_base(&self) -> u64 {
+        match self.options.window_from_start {
+            true => self.reader.state().header().map_or(0, |h| h.timestamp),
+            false => 0,
+        }
     }
 
     /// What subscription `sub` is to the alignment, bound when first met.
@@ -744,11 +799,15 @@ impl<R: Read> AlignStream<R> {
         let Some(t) = unwrap.push(payload) else {
             return;
         };
+        // A step more than the horizon behind the pass: its topics' rows may be gone.
+        let behind = self
+            .watermark
+            .is_some_and(|w| w.saturating_sub(t) > self.options.horizon_us);
         self.advance(t);
         if !self.in_window(t) {
             return;
         }
-        if self.emitted.is_some_and(|e| t < e) {
+        if behind || self.emitted.is_some_and(|e| t < e) {
             self.summary.late_steps += 1;
             self.summary.first_late_step_offset.get_or_insert(offset);
             return;
@@ -769,27 +828,32 @@ impl<R: Read> AlignStream<R> {
             tr.report.left_out += 1;
             return;
         };
-        if self.emitted.is_some_and(|e| t <= e) {
+        // Where it goes among the rows held (after those of equal time), and the
+        // time of the row before it there.
+        let at = tr.rows.partition_point(|(rt, _)| *rt <= t);
+        let before = at.checked_sub(1).map(|i| tr.rows[i].0);
+        let goes_back = tr.max_seen.is_some_and(|m| t < m);
+        // A step handed out at or after its time did not see it; nor, for a row that
+        // comes back in time, did a step handed out after the row before it (its
+        // nearest or next row may have been this one).
+        let missed = self
+            .emitted
+            .is_some_and(|e| t <= e || goes_back && before.map_or(true, |b| e > b));
+        if missed {
             tr.report.late_rows += 1;
             tr.report.first_late_offset.get_or_insert(offset);
         }
+        tr.max_seen = Some(tr.max_seen.map_or(t, |m| m.max(t)));
         tr.report.early_steps += core::mem::take(&mut tr.undecided);
         let mut buf = self.free.pop().unwrap_or_default();
         buf.clear();
         buf.extend_from_slice(payload);
         self.held_rows += 1;
         self.held_bytes += buf.len();
-        match tr.rows.back() {
-            Some((last, _)) if *last > t => {
-                let at = tr.rows.partition_point(|(rt, _)| *rt <= t);
-                tr.rows.insert(at, (t, buf));
-            }
-            _ => tr.rows.push_back((t, buf)),
-        }
+        tr.rows.insert(at, (t, buf));
         tr.report.held_rows_peak = tr.report.held_rows_peak.max(tr.rows.len());
-        if matches!(self.steps, Steps::Rate { .. }) {
-            self.advance(t);
-        }
+        // Every topic's rows move the pass's clock on, the grid's and the others'.
+        self.advance(t);
         self.summary.held_rows_peak = self.summary.held_rows_peak.max(self.held_rows);
         self.summary.held_bytes_peak = self.summary.held_bytes_peak.max(self.held_bytes);
     }
