@@ -52,9 +52,9 @@
 //!
 //! **In one pass**: [`AlignStream`] makes the same alignment reading the log once in
 //! file order, from any `Read` (a file, a pipe, a log larger than memory), holding only
-//! the steps not yet decided and the rows their methods still need (about the horizon,
-//! 10 s of the log, at most); where its values could differ from these (a row written
-//! long after its time, a topic silent for longer than the horizon) it says so
+//! the steps not yet decided and the rows their methods still need (in PX4 logs, about
+//! the horizon, 10 s of the log, at most); where its values could differ from these (a
+//! row written long after its time, a topic silent for longer than the horizon) it says so
 //! ([`StreamSummary`]). [`AlignedStream`] reads an [`Aligned`] struct that way.
 //!
 //! # Time

@@ -121,8 +121,9 @@ impl From<AlignError> for StreamError {
 /// indexed alignment's, and what it held.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct TrackReport {
-    /// Rows met after a step at or after their time was handed out: that step does
-    /// not see them.
+    /// Rows met after a step they would change was handed out (a step at or after
+    /// their time, or, for a row that comes back in time, one after the row before
+    /// it): that step does not see them.
     pub late_rows: u64,
     /// The byte offset of the first such row's message.
     pub first_late_offset: Option<u64>,
@@ -144,7 +145,8 @@ pub struct StreamSummary {
     pub steps: u64,
     /// Per topic read, in the order given.
     pub tracks: Vec<TrackReport>,
-    /// Rows of the grid topic met after a later step was handed out: left out.
+    /// Rows of the grid topic met after a later step was handed out, or more than the
+    /// horizon behind the latest row read: left out.
     pub late_steps: u64,
     /// The byte offset of the first such row's message.
     pub first_late_step_offset: Option<u64>,
@@ -264,7 +266,7 @@ struct Roles {
 ///   `t` is still to come);
 /// - the topic's unsubscription, or the end of the log;
 /// - a step more than the horizon ([`StreamOptions::horizon_us`], 10 s by default)
-///   after `t` (by the grid topic's rows, or for a rate the latest row read): a topic
+///   after `t` (the latest time of any row read, grid or topic): a topic
 ///   that stops logging, or logs seldom, holds nothing up beyond that.
 ///
 /// The values are then those of the indexed alignment, by the same rules ([the
@@ -273,8 +275,10 @@ struct Roles {
 /// its time; [`TrackReport::late_rows`]), which that step does not see, and steps
 /// decided by the horizon before the topic's next row came, for `nearest` and `linear`
 /// ([`TrackReport::early_steps`]): their value is what it would be after the topic's
-/// last row. Rows of a grid topic met after a later step was handed out are left out
-/// ([`StreamSummary::late_steps`]). A log in which none of these is reported gives
+/// last row. Rows of the grid topic met after a later step was handed out, or more
+/// than the horizon behind the latest row read, are left out
+/// ([`StreamSummary::late_steps`]). Rows that come back in time after a step they
+/// would change was handed out count as late rows too. A log in which none of these is reported gives
 /// exactly the indexed alignment's steps and values.
 ///
 /// # Differences from the indexed alignment, by design
