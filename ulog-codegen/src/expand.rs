@@ -8,7 +8,6 @@
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
-use ulog_format::BasicType;
 
 use crate::ir::{basic_variant, Absent, Message, MessageField, Shape};
 
@@ -158,7 +157,7 @@ fn declared_conversions(
     };
     let arms = f.converts.iter().map(|(b, function)| {
         let v = basic_variant(*b);
-        let native = native_type(*b);
+        let native = crate::ir::rust_basic(*b);
         quote!(::core::option::Option::Some(c) if c.ty == #private::BasicType::#v => #private::#reader::<#native, #inferred>(
             payload, sources, #k, #private::BasicType::#v, #function, #present,
         ),)
@@ -167,23 +166,6 @@ fn declared_conversions(
         #(#arms)*
         _ => #otherwise,
     })
-}
-
-/// The Rust type of one value of ULog type `b`.
-fn native_type(b: BasicType) -> TokenStream {
-    match b {
-        BasicType::Int8 => quote!(i8),
-        BasicType::UInt8 | BasicType::Char => quote!(u8),
-        BasicType::Int16 => quote!(i16),
-        BasicType::UInt16 => quote!(u16),
-        BasicType::Int32 => quote!(i32),
-        BasicType::UInt32 => quote!(u32),
-        BasicType::Int64 => quote!(i64),
-        BasicType::UInt64 => quote!(u64),
-        BasicType::Float => quote!(f32),
-        BasicType::Double => quote!(f64),
-        BasicType::Bool => quote!(bool),
-    }
 }
 
 /// Writes `value` (an expression of a reference to the field's value) at `offset` of
