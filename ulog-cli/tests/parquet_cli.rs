@@ -262,47 +262,6 @@ fn each_codec_is_what_the_files_say_and_the_values_are_the_same() {
     assert!(sizes[1] < sizes[2], "zstd {} < none {}", sizes[1], sizes[2]);
 }
 
-/// A log of topics named as file systems refuse or fold them (Windows's device names,
-/// names that differ only in case, `a/b` beside `a_b`, 300 bytes), each with `1 + i`
-/// rows holding its number `i`.
-fn awkward_names() -> (Vec<u8>, Vec<String>) {
-    let long = format!("long_{}", "y".repeat(295));
-    let names: Vec<String> = [
-        "CON",
-        "aux",
-        "nul",
-        "com1",
-        "LPT9",
-        "FOO",
-        "Foo",
-        "foo",
-        "a/b",
-        "a_b",
-        &long,
-        "vehicle_status",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
-    for name in &names {
-        b.format(&format!("{name}:uint64_t timestamp;uint32_t n;"));
-    }
-    // Formats first, as PX4 writes them: in the data section, a format whose name is
-    // this long is not told from garbage.
-    for (i, name) in names.iter().enumerate() {
-        b.subscribe(0, i as u16, name);
-    }
-    for i in 0..names.len() {
-        for row in 0..=i as u64 {
-            let mut p = (1000 + row).to_le_bytes().to_vec();
-            p.extend_from_slice(&(i as u32).to_le_bytes());
-            b.data(i as u16, &p);
-        }
-    }
-    (b.into_bytes(), names)
-}
-
 /// Whether `name` is a valid file name on Windows, macOS and Linux alike.
 fn portable(name: &str) -> bool {
     let stem = name.split('.').next().unwrap_or("").to_ascii_uppercase();
@@ -339,7 +298,7 @@ fn portable_names(dir: &Path) -> Vec<String> {
 #[test]
 fn topic_names_file_systems_refuse_or_fold_keep_every_row() {
     let dir = common::scratch("parquet_awkward");
-    let (bytes, names) = awkward_names();
+    let (bytes, names) = ulog_core::testing::awkward_names_log();
     let log = dir.join("awkward.ulg");
     std::fs::write(&log, bytes).unwrap();
 

@@ -211,6 +211,50 @@ impl Rng {
     }
 }
 
+/// A log whose topic names a file system refuses or folds: Windows's device names,
+/// names that differ only in case, `a/b` beside `a_b`, a name of 300 bytes. (The
+/// format grammar takes only letters, digits, `_`, `-` and `/` in a topic's name: other
+/// characters cannot reach a file name; `naming`'s tests cover them.) Each topic has
+/// `1 + i` rows holding its number `i`; it returns the names in that order.
+pub fn awkward_names_log() -> (Vec<u8>, Vec<String>) {
+    let long = format!("long_{}", "x".repeat(295));
+    let names: Vec<String> = [
+        "CON",
+        "aux",
+        "nul",
+        "com1",
+        "LPT9",
+        "FOO",
+        "Foo",
+        "foo",
+        "a/b",
+        "a_b",
+        &long,
+        "vehicle_status",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut b = LogBuilder::new(1, 0);
+    for name in &names {
+        b.format(&format!("{name}:uint64_t timestamp;uint32_t n;"));
+    }
+    // Formats first, as PX4 writes them: in the data section, a format whose name is
+    // this long is not told from garbage.
+    for (id, name) in names.iter().enumerate() {
+        b.subscribe(0, id as u16, name);
+    }
+    // Each topic's rows hold its own number: 1 + id rows of it.
+    for (id, _) in names.iter().enumerate() {
+        for row in 0..=id as u64 {
+            let mut p = (1000 + row).to_le_bytes().to_vec();
+            p.extend_from_slice(&(id as u32).to_le_bytes());
+            b.data(id as u16, &p);
+        }
+    }
+    (b.into_bytes(), names)
+}
+
 /// A small, valid, version-1 log of a short simulated flight: flag bits, information,
 /// parameters and defaults, nested and multi-instance topics with trailing padding,
 /// logged and tagged strings, a parameter change, a dropout and sync messages. Used by

@@ -1186,49 +1186,6 @@ fn a_wide_topic_in_two_instances_keeps_both_in_its_dataset_file() {
     let _ = std::fs::remove_file(&log);
 }
 
-/// A log whose topic names a file system refuses or folds: Windows's device names,
-/// names that differ only in case, `a/b` beside `a_b`, a name of 300 bytes. (The
-/// format grammar takes only letters, digits, `_`, `-` and `/` in a topic's name: other
-/// characters cannot reach a file name; `naming`'s tests cover them.)
-fn awkward_names_log() -> (Vec<u8>, Vec<String>) {
-    let long = format!("long_{}", "x".repeat(295));
-    let names: Vec<String> = [
-        "CON",
-        "aux",
-        "nul",
-        "com1",
-        "LPT9",
-        "FOO",
-        "Foo",
-        "foo",
-        "a/b",
-        "a_b",
-        &long,
-        "vehicle_status",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let mut b = LogBuilder::new(1, 0);
-    for name in &names {
-        b.format(&format!("{name}:uint64_t timestamp;uint32_t n;"));
-    }
-    // Formats first, as PX4 writes them: in the data section, a format whose name is
-    // this long is not told from garbage.
-    for (id, name) in names.iter().enumerate() {
-        b.subscribe(0, id as u16, name);
-    }
-    // Each topic's rows hold its own number: 1 + id rows of it.
-    for (id, _) in names.iter().enumerate() {
-        for row in 0..=id as u64 {
-            let mut p = (1000 + row).to_le_bytes().to_vec();
-            p.extend_from_slice(&(id as u32).to_le_bytes());
-            b.data(id as u16, &p);
-        }
-    }
-    (b.into_bytes(), names)
-}
-
 /// Checks the file of topic `names[id]` at `path`: its name valid on every common
 /// file system, its rows those of the topic, its real name in its metadata.
 fn check_topic_file(path: &std::path::Path, names: &[String], id: usize) {
@@ -1257,7 +1214,7 @@ fn check_topic_file(path: &std::path::Path, names: &[String], id: usize) {
 
 #[test]
 fn topic_names_a_file_system_refuses_or_folds_keep_every_row() {
-    let (bytes, names) = awkward_names_log();
+    let (bytes, names) = crate::testing::awkward_names_log();
     let folded = |p: &std::path::Path| p.to_string_lossy().to_lowercase();
 
     // A log's folder: one file per topic, names distinct in any case.
