@@ -282,32 +282,33 @@ fn csv_lines(
     rows: &[Rows<'_, '_>],
     range: core::ops::Range<usize>,
 ) {
-    let mut cells: Vec<Cells<'_, '_>> = tables.iter().map(Cells::new).collect();
+    let mut cells: Vec<Cells<'_>> = tables.iter().map(Cells::new).collect();
     let mut rows: Vec<Rows<'_, '_>> = rows.iter().map(|r| r.from_step(range.start)).collect();
     let mut num = [0u8; NUM_LEN];
     for &t in &times[range] {
         let n = format_u64(t, &mut num);
         text.extend_from_slice(&num[..n]);
         for (cells, rows) in cells.iter_mut().zip(rows.iter_mut()) {
-            cells.write(text, rows.next().flatten());
+            cells.write(text, rows.next().flatten().as_ref());
         }
         text.push(b'\n');
     }
 }
 
 /// The cells of one topic's columns at a step (`,a,b,…`), kept while the step's row
-/// is the same logged row: a topic logged more slowly than the steps has the same
-/// row at step after step (`previous`, `nearest`), whose cells are then copied, not
-/// formatted again.
-struct Cells<'t, 'a> {
+/// holds the same bytes: a topic logged more slowly than the steps has the same row at
+/// step after step (`previous`, `nearest`), whose cells are then copied, not formatted
+/// again. (The bytes are compared, not the row's address: the one-pass alignment
+/// reuses its buffers; cells depend on the bytes only.)
+struct Cells<'t> {
     columns: &'t [(String, FieldReader)],
-    /// The logged row `text` holds the cells of.
-    row: Option<&'a [u8]>,
+    /// The logged row `text` holds the cells of, when it is one.
+    row: Option<Vec<u8>>,
     text: Vec<u8>,
 }
 
-impl<'t, 'a> Cells<'t, 'a> {
-    fn new(table: &'t Table) -> Cells<'t, 'a> {
+impl<'t> Cells<'t> {
+    fn new(table: &'t Table) -> Cells<'t> {
         Cells {
             columns: &table.columns,
             row: None,
@@ -316,21 +317,23 @@ impl<'t, 'a> Cells<'t, 'a> {
     }
 
     /// Appends the cells of `row` (empty ones when there is none) to `line`.
-    fn write(&mut self, line: &mut Vec<u8>, row: Option<Row<'a>>) {
+    fn write(&mut self, line: &mut Vec<u8>, row: Option<&Row<'_>>) {
         match row {
             None => line.resize(line.len() + self.columns.len(), b','),
-            // The same row: its address and length, not its bytes (two rows may hold
-            // the same bytes, and both read the same).
-            Some(Row::Logged(p)) if self.row.is_some_and(|r| core::ptr::eq(r, p)) => {
+            Some(Row::Logged(p)) if self.row.as_deref() == Some(*p) => {
                 line.extend_from_slice(&self.text);
             }
             Some(row) => {
                 self.text.clear();
-                row_cells(&mut self.text, self.columns, Some(&row));
-                self.row = match row {
-                    Row::Logged(p) => Some(p),
-                    Row::Between { .. } => None,
-                };
+                row_cells(&mut self.text, self.columns, Some(row));
+                match row {
+                    Row::Logged(p) => {
+                        let kept = self.row.get_or_insert_with(Vec::new);
+                        kept.clear();
+                        kept.extend_from_slice(p);
+                    }
+                    Row::Between { .. } => self.row = None,
+                }
                 line.extend_from_slice(&self.text);
             }
         }

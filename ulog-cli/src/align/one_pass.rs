@@ -4,13 +4,13 @@
 use std::io::{BufWriter, Write};
 
 use ulog_core::align::{
-    AlignError, AlignOptions, AlignStream, Grid, Row, Selection, StreamError, StreamOptions,
+    AlignError, AlignOptions, AlignStream, Grid, Selection, StreamError, StreamOptions,
     StreamSummary, Track,
 };
 use ulog_core::FieldReader;
 
 use super::parquet::{self, Error};
-use super::{csv_header, is_parquet, lookup, row_cells, Args, Table};
+use super::{csv_header, is_parquet, lookup, Args, Cells, Table};
 use crate::failure::{io_text, stdout_err, Failure};
 use crate::input;
 use crate::numfmt::{format_u64, NUM_LEN};
@@ -126,30 +126,13 @@ fn write_csv<R: std::io::Read>(
     out.write_all(&csv_header(tables)).map_err(Stepped::Write)?;
     let mut line = Vec::new();
     let mut num = [0u8; NUM_LEN];
-    // Per table, the logged row whose cells were formatted last, and its cells: a
-    // topic slower than the steps has the same row at step after step (the bytes are
-    // compared: the pass reuses its buffers).
-    let mut last: Vec<(Vec<u8>, Vec<u8>)> = vec![Default::default(); tables.len()];
+    let mut cells: Vec<Cells<'_>> = tables.iter().map(Cells::new).collect();
     while let Some(step) = stream.next_step().map_err(Stepped::Stream)? {
         line.clear();
         let n = format_u64(step.time, &mut num);
         line.extend_from_slice(&num[..n]);
-        for ((table, row), (bytes, cells)) in tables.iter().zip(&step.rows).zip(&mut last) {
-            match row {
-                Some(Row::Logged(p)) if !bytes.is_empty() && bytes.as_slice() == *p => {}
-                Some(Row::Logged(p)) => {
-                    bytes.clear();
-                    bytes.extend_from_slice(p);
-                    cells.clear();
-                    row_cells(cells, &table.columns, row.as_ref());
-                }
-                _ => {
-                    bytes.clear();
-                    cells.clear();
-                    row_cells(cells, &table.columns, row.as_ref());
-                }
-            }
-            line.extend_from_slice(cells);
+        for (cells, row) in cells.iter_mut().zip(&step.rows) {
+            cells.write(&mut line, row.as_ref());
         }
         line.push(b'\n');
         out.write_all(&line).map_err(Stepped::Write)?;
