@@ -469,7 +469,6 @@ impl<R: Read> AlignStream<R> {
                 if !self.stopped_early && !self.all_subscribed() {
                     return Err(self.missing().into());
                 }
-                self.summary.findings = self.reader.state().findings().to_vec();
                 return Ok(None);
             }
             self.read_one()?;
@@ -525,9 +524,7 @@ impl<R: Read> AlignStream<R> {
     pub fn summary(&self) -> StreamSummary {
         let mut s = self.summary.clone();
         s.tracks = self.tracks.iter().map(|t| t.report.clone()).collect();
-        if s.findings.is_empty() {
-            s.findings = self.reader.state().findings().to_vec();
-        }
+        s.findings = self.reader.state().findings().to_vec();
         s
     }
 
