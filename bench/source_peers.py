@@ -216,3 +216,24 @@ def build(root, bench, cache_root, smoke):
             log("== " + why)
             skipped.append(why)
     return built, skipped
+
+
+def flight_review_exe(root):
+    """Where `ulog-convert` is built (the tests' build script looks there too)."""
+    bench = os.path.join(root, "bench")
+    env = os.environ.get("CARGO_TARGET_DIR")
+    target = os.path.abspath(env) if env else os.path.join(bench, "target")
+    return os.path.join(target, "peers", "flight-review")
+
+
+if __name__ == "__main__":
+    # `python3 bench/source_peers.py flight-review`: builds flight-review-rs's
+    # `ulog-convert` (about 13 minutes on 2 cores, once), which the tests of `ulog
+    # analyze` compare with; prints its path.
+    if sys.argv[1:] != ["flight-review"]:
+        sys.exit("usage: source_peers.py flight-review")
+    root = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    exe, why = _flight_review(peers_dir(root), flight_review_exe(root), allow_build=True)
+    if not exe:
+        sys.exit(why)
+    print(exe)

@@ -15,7 +15,10 @@
 // `pandas` and `numpy` (which `ulog align` is checked with), `cfg(pyarrow)` where it can
 // import `pyarrow` (which reads the Parquet tables of `ulog align`); `cfg(chromium)` where `/usr/bin/chromium`
 // exists and `node` can require `playwright-core` from `target/node` of the workspace
-// (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise). With
+// (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise);
+// `cfg(flight_review)` where flight-review-rs's `ulog-convert` is built
+// (`$ULOG_FLIGHT_REVIEW`, else where `python3 bench/source_peers.py flight-review`
+// builds it), reaching the tests as `ULOG_TESTS_FLIGHT_REVIEW`. With
 // `ULOG_REQUIRE_ALL_TESTS` set (CI, which has both), a missing corpus or pyulog fails
 // the build instead, so that no test is ignored there.
 
@@ -24,7 +27,7 @@
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
     println!(
-        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, pandas, pyarrow, chromium)"
+        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, pandas, pyarrow, chromium, flight_review)"
     );
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
@@ -100,6 +103,30 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
         panic!(
             "ULOG_REQUIRE_ALL_TESTS is set but /usr/bin/chromium or playwright-core \
              (npm install --prefix target/node playwright-core) is missing"
+        );
+    }
+    // flight-review-rs (PX4 Flight Review v2's converter), the diagnostics' oracle.
+    println!("cargo::rerun-if-env-changed=ULOG_FLIGHT_REVIEW");
+    let peer = match std::env::var_os("ULOG_FLIGHT_REVIEW") {
+        Some(exe) => std::path::PathBuf::from(exe),
+        None => {
+            let built = "peers/flight-review/target/release/ulog-convert";
+            let target = std::env::var_os("CARGO_TARGET_DIR")
+                .map(std::path::PathBuf::from)
+                .filter(|t| t.join(built).is_file())
+                .unwrap_or_else(|| manifest.join("../bench/target"));
+            target.join(built)
+        }
+    };
+    println!("cargo::rerun-if-changed={}", peer.display());
+    if peer.is_file() {
+        println!("cargo::rustc-cfg=flight_review");
+        println!("cargo::rustc-env=ULOG_TESTS_FLIGHT_REVIEW={}", peer.display());
+    } else if require {
+        panic!(
+            "ULOG_REQUIRE_ALL_TESTS is set but flight-review-rs's ulog-convert is not built \
+             ({}; python3 bench/source_peers.py flight-review builds it)",
+            peer.display()
         );
     }
     corpus

@@ -6,6 +6,7 @@
 #![deny(unsafe_code)]
 
 mod align;
+mod analyze;
 mod anonymise;
 mod check;
 mod codegen;
@@ -62,6 +63,7 @@ enum Command {
     Mcap(mcap::Args),
     Plot(plot::Args),
     Align(align::Args),
+    Analyze(analyze::Args),
     Kml(kml::Args),
     Report(report::Args),
     GpsDump(gps_dump::Args),
@@ -85,6 +87,7 @@ fn main() -> ExitCode {
         Command::Mcap(a) => done(mcap::run(&a)),
         Command::Plot(a) => done(plot::run(&a)),
         Command::Align(a) => done(align::run(&a)),
+        Command::Analyze(a) => done(analyze::run(&a)),
         Command::Kml(a) => done(kml::run(&a)),
         Command::Report(a) => done(report::run(&a)),
         Command::GpsDump(a) => done(gps_dump::run(&a)),

@@ -30,6 +30,7 @@
 
 mod error;
 mod fft;
+mod flight;
 mod resample;
 mod spectrogram;
 mod spectrum;
@@ -39,6 +40,11 @@ mod step_response;
 mod tests;
 
 pub use error::AnalysisError;
+pub use flight::{
+    analyze, mode_name, AnalyzeOptions, AxisSpectrum, AxisStep, BatterySummary, Diagnostic,
+    EventKind, Evidence, EvidenceValue, FlightAnalysis, FlightAnalyzer, FlightStats, GpsQuality,
+    ModeSegment, Severity, Timeline, VibrationSummary,
+};
 pub use resample::{resample, sample_rate, ResampleOptions, Uniform};
 pub use spectrogram::{spectrogram, Spectrogram, SpectrogramOptions};
 pub use spectrum::{amplitude_spectrum, psd, Peak, PsdOptions, Spectrum};

@@ -1,0 +1,329 @@
+//! `ulog analyze`: what happened in each flight ([`ulog_core::analysis::analyze`]):
+//! Flight Review v2's diagnostics, flight statistics, battery, GPS, vibration and its
+//! frequencies, the rate controllers' step responses.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Map, Value};
+use ulog_core::analysis::{analyze, AnalyzeOptions, Diagnostic, EvidenceValue, FlightAnalysis};
+use ulog_core::Source;
+
+use crate::failure::{stdout_err, Failure};
+use crate::input;
+
+/// Analyse flights: per log, the diagnostics of Flight Review v2 (`battery_brownout`,
+/// `ekf_failure`, `gps_interference`, `motor_failure`, `rc_loss`) with severity,
+/// start and end times and evidence; flight statistics (distance, altitude, speeds,
+/// tilt, rotation); battery (lowest voltage, charge used, highest current); GPS
+/// quality; the accelerometer's vibration and its status; the dominant frequencies of
+/// the gyro and accelerometer spectra while armed; the rate controllers' step
+/// responses (rise time, overshoot, settling). Each log is read once, in chunks.
+///
+/// With `--json`, one JSON object per log, one per line, whose `diagnostics` is a
+/// list of `{id, severity, timestamp_us, end_timestamp_us, summary, evidence}`.
+#[derive(Debug, clap::Args)]
+#[command(
+    about = "Diagnostics, flight statistics, vibration and PID step responses",
+    long_about
+)]
+pub struct Args {
+    /// The ULog files.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// One JSON object per log, one per line.
+    #[arg(long)]
+    json: bool,
+    /// Leave out the spectra and the step responses (faster).
+    #[arg(long)]
+    no_signals: bool,
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let options = AnalyzeOptions::default()
+        .spectra(!args.no_signals)
+        .step_response(!args.no_signals);
+    let mut out = std::io::stdout().lock();
+    for (i, path) in args.files.iter().enumerate() {
+        let name = path.display().to_string();
+        let flight = analyse(path, &name, &options)?;
+        input::note_damage(&name, &flight.findings);
+        if args.json {
+            let line = serde_json::to_string(&to_json(&name, &flight))
+                .map_err(|e| Failure::about(&name, format_args!("cannot write JSON: {e}")))?;
+            writeln!(out, "{line}").map_err(stdout_err)?;
+        } else {
+            if i > 0 {
+                writeln!(out).map_err(stdout_err)?;
+            }
+            write_text(&mut out, &name, &flight).map_err(stdout_err)?;
+        }
+    }
+    Ok(())
+}
+
+fn analyse(path: &Path, name: &str, options: &AnalyzeOptions) -> Result<FlightAnalysis, Failure> {
+    input::not_a_directory(path)?;
+    let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+    if regular {
+        analyze(Source::file(path), options).map_err(|e| input::pass_failure(Some(path), name, &e))
+    } else {
+        let file = input::open(path)?;
+        analyze(&file, options).map_err(|e| input::pass_failure(None, name, &e))
+    }
+}
+
+fn evidence_json(d: &Diagnostic) -> Value {
+    let mut m = Map::new();
+    m.insert("type".into(), json!(d.evidence.kind()));
+    for (k, v) in d.evidence.fields() {
+        let v = match v {
+            EvidenceValue::Float(f) => json!(f),
+            EvidenceValue::Int(i) => json!(i),
+            EvidenceValue::Text(t) => json!(t),
+            EvidenceValue::Bool(b) => json!(b),
+            EvidenceValue::Missing => Value::Null,
+        };
+        m.insert(k.into(), v);
+    }
+    Value::Object(m)
+}
+
+/// Keeps a float finite for JSON (which has no NaN): `null` otherwise.
+fn num(v: f64) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        Value::Null
+    }
+}
+
+fn to_json(name: &str, f: &FlightAnalysis) -> Value {
+    let diagnostics: Vec<Value> = f
+        .diagnostics
+        .iter()
+        .map(|d| {
+            json!({
+                "id": d.id,
+                "severity": d.severity.as_str(),
+                "timestamp_us": d.timestamp_us,
+                "end_timestamp_us": d.end_timestamp_us,
+                "summary": d.summary,
+                "evidence": evidence_json(d),
+            })
+        })
+        .collect();
+    let t = &f.timeline;
+    let s = &f.stats;
+    let b = &f.battery;
+    let gps = f.gps.as_ref().map(|g| {
+        json!({
+            "topic": g.topic,
+            "min_satellites": g.min_satellites,
+            "max_satellites": g.max_satellites,
+            "max_hdop": g.max_hdop,
+            "max_eph_m": g.max_eph_m,
+            "max_epv_m": g.max_epv_m,
+            "fix_types_seen": g.fix_types_seen,
+        })
+    });
+    let spectra: Vec<Value> = f
+        .spectra
+        .iter()
+        .map(|a| {
+            json!({
+                "signal": a.signal,
+                "rate_hz": num(a.rate_hz),
+                "segments": a.segments,
+                "dominant": a.dominant.iter().map(|p| json!({
+                    "frequency_hz": num(p.frequency_hz),
+                    "psd": num(p.value),
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let steps: Vec<Value> = f
+        .step_responses
+        .iter()
+        .map(|a| {
+            let m = a.metrics.as_ref();
+            json!({
+                "axis": a.axis,
+                "rate_hz": num(a.rate_hz),
+                "windows": a.response.windows.len(),
+                "rise_time_s": m.and_then(|m| m.rise_time_s),
+                "overshoot_percent": m.map(|m| num(m.overshoot_percent)),
+                "settling_time_s": m.and_then(|m| m.settling_time_s),
+                "peak": m.map(|m| num(m.peak)),
+            })
+        })
+        .collect();
+    json!({
+        "file": name,
+        "diagnostics": diagnostics,
+        "flight": {
+            "start_us": f.span_us.map(|s| s.0),
+            "end_us": f.span_us.map(|s| s.1),
+            "armed_s": num(t.armed_s),
+            "airborne_s": num(t.airborne_s),
+            "takeoff_us": t.takeoff_us(),
+            "modes": t.modes.iter().map(|m| json!({
+                "mode": m.mode, "name": m.name, "start_us": m.start_us, "end_us": m.end_us,
+            })).collect::<Vec<_>>(),
+            "events": t.events.iter().map(|(time, k)| json!({
+                "timestamp_us": time, "kind": k.as_str(),
+            })).collect::<Vec<_>>(),
+        },
+        "stats": {
+            "total_distance_m": num(s.total_distance_m),
+            "max_altitude_diff_m": num(s.max_altitude_diff_m),
+            "max_altitude_above_start_m": num(s.max_altitude_above_start_m),
+            "max_speed_m_s": num(s.max_speed_m_s),
+            "max_horizontal_speed_m_s": num(s.max_horizontal_speed_m_s),
+            "max_speed_up_m_s": num(s.max_speed_up_m_s),
+            "max_speed_down_m_s": num(s.max_speed_down_m_s),
+            "avg_speed_m_s": num(s.avg_speed_m_s),
+            "max_tilt_deg": num(s.max_tilt_deg),
+            "max_rotation_speed_deg_s": num(s.max_rotation_speed_deg_s),
+        },
+        "battery": {
+            "min_voltage_v": b.min_voltage_v,
+            "avg_current_a": b.avg_current_a,
+            "max_current_a": b.max_current_a,
+            "discharged_mah": b.discharged_mah,
+        },
+        "gps": gps,
+        "vibration": {
+            "accel_vibe_mean": f.vibration.accel_vibe_mean,
+            "accel_vibe_max": f.vibration.accel_vibe_max,
+            "status": f.vibration.status,
+            "spectra": spectra,
+        },
+        "step_response": steps,
+        "notes": f.notes,
+        "damaged_stretches": f.findings.iter().filter(|x| x.is_damage()).count(),
+    })
+}
+
+fn opt(v: Option<f64>, unit: &str) -> String {
+    v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2} {unit}"))
+}
+
+fn write_text(
+    out: &mut impl std::io::Write,
+    name: &str,
+    f: &FlightAnalysis,
+) -> std::io::Result<()> {
+    writeln!(out, "{name}")?;
+    let t = &f.timeline;
+    if let Some((a, b)) = f.span_us {
+        writeln!(
+            out,
+            "  log {:.1} s to {:.1} s, armed {:.1} s, in the air {:.1} s",
+            a as f64 * 1e-6,
+            b as f64 * 1e-6,
+            t.armed_s,
+            t.airborne_s
+        )?;
+    }
+    writeln!(out, "Diagnostics: {}", f.diagnostics.len())?;
+    for d in &f.diagnostics {
+        writeln!(
+            out,
+            "  {:<8} {:<16} {}",
+            d.severity.as_str(),
+            d.id,
+            d.summary
+        )?;
+    }
+    let s = &f.stats;
+    writeln!(out, "Flight")?;
+    writeln!(
+        out,
+        "  distance {:.1} m, altitude range {:.1} m, up to {:.1} m above the start",
+        s.total_distance_m, s.max_altitude_diff_m, s.max_altitude_above_start_m
+    )?;
+    writeln!(
+        out,
+        "  max speed {:.1} m/s (horizontal {:.1}, up {:.1}, down {:.1}), mean {:.1} m/s",
+        s.max_speed_m_s,
+        s.max_horizontal_speed_m_s,
+        s.max_speed_up_m_s,
+        s.max_speed_down_m_s,
+        s.avg_speed_m_s
+    )?;
+    writeln!(
+        out,
+        "  max tilt {:.1}°, max rotation {:.0}°/s",
+        s.max_tilt_deg, s.max_rotation_speed_deg_s
+    )?;
+    let b = &f.battery;
+    writeln!(
+        out,
+        "Battery: min {}, mean current {}, max current {}, used {}",
+        opt(b.min_voltage_v, "V"),
+        opt(b.avg_current_a, "A"),
+        opt(b.max_current_a, "A"),
+        opt(b.discharged_mah, "mAh")
+    )?;
+    match &f.gps {
+        Some(g) => writeln!(
+            out,
+            "GPS ({}): satellites {}–{}, max EPH {}, max EPV {}, max HDOP {}, fix types {:?}",
+            g.topic,
+            g.min_satellites.unwrap_or(0),
+            g.max_satellites.unwrap_or(0),
+            opt(g.max_eph_m.map(f64::from), "m"),
+            opt(g.max_epv_m.map(f64::from), "m"),
+            opt(g.max_hdop.map(f64::from), ""),
+            g.fix_types_seen
+        )?,
+        None => writeln!(out, "GPS: none")?,
+    }
+    let v = &f.vibration;
+    writeln!(
+        out,
+        "Vibration: {} (accelerometer metric mean {}, max {})",
+        v.status,
+        opt(v.accel_vibe_mean, "m/s²"),
+        opt(v.accel_vibe_max, "m/s²")
+    )?;
+    for a in &f.spectra {
+        let peaks: Vec<String> = a
+            .dominant
+            .iter()
+            .map(|p| format!("{:.1} Hz", p.frequency_hz))
+            .collect();
+        writeln!(
+            out,
+            "  {:<22} dominant: {}",
+            a.signal,
+            if peaks.is_empty() {
+                "none".to_owned()
+            } else {
+                peaks.join(", ")
+            }
+        )?;
+    }
+    if !f.step_responses.is_empty() {
+        writeln!(out, "Rate controllers' step response")?;
+    }
+    for a in &f.step_responses {
+        match &a.metrics {
+            Some(m) => writeln!(
+                out,
+                "  {:<5} rise {}, overshoot {:.1} %, settling {} ({} windows)",
+                a.axis,
+                opt(m.rise_time_s.map(|r| r * 1e3), "ms"),
+                m.overshoot_percent,
+                opt(m.settling_time_s.map(|r| r * 1e3), "ms"),
+                a.response.windows.len()
+            )?,
+            None => writeln!(out, "  {:<5} no rise (too little excitation)", a.axis)?,
+        }
+    }
+    for n in &f.notes {
+        writeln!(out, "Note: {n}")?;
+    }
+    Ok(())
+}
