@@ -137,7 +137,7 @@ pub(super) struct Now {
 ///
 /// let bytes = ulog_core::testing::sample_log();
 /// let flight = analyze(&bytes, &AnalyzeOptions::default())?;
-/// assert!(flight.stats.max_tilt_deg > 0.0);
+/// assert!(flight.span_us.is_some() && flight.diagnostics.is_empty());
 /// for d in &flight.diagnostics {
 ///     println!("{} {} at {} µs: {}", d.severity, d.id, d.timestamp_us, d.summary);
 /// }
