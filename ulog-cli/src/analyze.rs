@@ -132,6 +132,7 @@ fn to_json(name: &str, f: &FlightAnalysis) -> Value {
         .iter()
         .map(|a| {
             json!({
+                "topic": a.topic,
                 "signal": a.signal,
                 "rate_hz": num(a.rate_hz),
                 "segments": a.segments,
@@ -283,7 +284,7 @@ fn write_text(
     let v = &f.vibration;
     writeln!(
         out,
-        "Vibration: {} (accelerometer metric mean {}, max {})",
+        "Vibration: {} (accelerometer metric mean {}, max {}); spectra while armed:",
         v.status,
         opt(v.accel_vibe_mean, "m/s²"),
         opt(v.accel_vibe_max, "m/s²")
@@ -294,16 +295,13 @@ fn write_text(
             .iter()
             .map(|p| format!("{:.1} Hz", p.frequency_hz))
             .collect();
-        writeln!(
-            out,
-            "  {:<22} dominant: {}",
-            a.signal,
-            if peaks.is_empty() {
-                "none".to_owned()
-            } else {
-                peaks.join(", ")
-            }
-        )?;
+        let peaks = if peaks.is_empty() {
+            "none".to_owned()
+        } else {
+            peaks.join(", ")
+        };
+        let name = format!("{}.{}", a.topic, a.signal);
+        writeln!(out, "  {name:<40} dominant: {peaks}")?;
     }
     if !f.step_responses.is_empty() {
         writeln!(out, "Rate controllers' step response")?;

@@ -210,6 +210,30 @@ fn each_kind_of_log_gives_a_page_with_its_plots_and_notes() {
     assert!(damage.contains("ends inside a message"), "{damage}");
     let (_, html) = report("kinds", NEW_2024.0);
     assert_eq!(row(&html, "Damage"), "none found");
+    // The flight analysis: spectra, step responses and spectrograms of an armed
+    // flight, its vibration status (flight-review-rs says `warning` of this log too)
+    // and no diagnostics.
+    let data = page_data(&html);
+    let ids = |key: &str| -> Vec<String> {
+        data[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["id"].as_str().unwrap().to_owned())
+            .collect()
+    };
+    assert_eq!(
+        ids("analysis"),
+        ["psd_gyro", "psd_accel", "psd_torque", "step_response"]
+    );
+    assert_eq!(ids("heatmaps"), ["spectrogram_gyro", "spectrogram_accel"]);
+    assert!(
+        row(&html, "Vibration").starts_with("warning"),
+        "{}",
+        row(&html, "Vibration")
+    );
+    assert!(row(&html, "Diagnostics").starts_with("none"));
+    assert!(html.contains("id=\"no-diagnostics\""));
     assert!(row(&html, "Start").starts_with("2024-02-06T08:25:44"));
     assert!(row(&html, "Software").starts_with("v1.14.0"));
 }
@@ -273,6 +297,21 @@ fn pages_draw_zoom_together_hover_reader_values_and_list_every_message() {
         for id in plots {
             let px = r["plots"][id]["linePixels"].as_u64().unwrap_or(0);
             assert!(px > 20, "{stem}: plot {id} is drawn ({px} line pixels)");
+        }
+        if stem == NEW_2024.0 {
+            for id in ["psd_gyro", "psd_accel", "psd_torque", "step_response"] {
+                let px = r["analysis"][id]["linePixels"].as_u64().unwrap_or(0);
+                assert!(px > 20, "{stem}: {id} is drawn ({px} line pixels)");
+            }
+            for id in ["spectrogram_gyro", "spectrogram_accel"] {
+                let m = &r["heatmaps"][id];
+                let (coloured, all) = (m["colouredPixels"].as_u64(), m["pixels"].as_u64());
+                assert!(
+                    coloured.unwrap_or(0) * 2 > all.unwrap_or(u64::MAX),
+                    "{stem}: {id} fills its canvas with colour: {m}"
+                );
+                assert!(m["columns"].as_u64().unwrap_or(0) > 50, "{stem}: {id}: {m}");
+            }
         }
         // Zoom: every plot shows the dragged plot's range, narrower than before.
         let zoomed = r["zoomed"].as_str().unwrap();
@@ -611,4 +650,96 @@ fn information_downloads_give_the_bytes_and_folds_show_their_first_line() {
             .map(|i| format!("line {i} <&>\n"))
             .collect::<String>()
     );
+}
+
+/// A written flight of a 4S battery whose voltage dips below 3.3 V per cell (13.2 V)
+/// from 30 s to 33 s while armed (armed from 2 s to 60 s).
+fn brownout_log(dir: &Path) -> PathBuf {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    b.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;uint8_t nav_state;");
+    b.format(
+        "battery_status:uint64_t timestamp;float voltage_v;float current_a;uint8_t cell_count;",
+    );
+    b.subscribe(0, 0, "vehicle_status");
+    b.subscribe(0, 1, "battery_status");
+    for i in 0..=620u64 {
+        let t = 1_000_000 + i * 100_000;
+        if i % 5 == 0 {
+            let armed = (2_000_000..60_000_000).contains(&t);
+            let mut p = t.to_le_bytes().to_vec();
+            p.extend([if armed { 2u8 } else { 1 }, 2]);
+            b.data(0, &p);
+        }
+        let volts: f32 = if (30_000_000..=33_000_000).contains(&t) {
+            12.9
+        } else {
+            15.5
+        };
+        let mut p = t.to_le_bytes().to_vec();
+        p.extend(volts.to_le_bytes());
+        p.extend(8.0f32.to_le_bytes());
+        p.push(4);
+        b.data(1, &p);
+    }
+    let path = dir.join("brownout.ulg");
+    std::fs::write(&path, b.into_bytes()).expect("write the log");
+    path
+}
+
+#[test]
+fn a_brownout_is_listed_marked_and_counted_in_the_header() {
+    let dir = common::scratch("report-brownout");
+    let log = brownout_log(&dir);
+    let out = dir.join("brownout.html");
+    common::ulog_ok([
+        OsStr::new("report"),
+        log.as_os_str(),
+        OsStr::new("-o"),
+        out.as_os_str(),
+    ]);
+    let html = std::fs::read_to_string(&out).expect("the page");
+    assert_eq!(
+        row(&html, "Diagnostics"),
+        "1 critical, 0 warning (table below)"
+    );
+    let table = &html[html.find("<table id=\"diagnostics\"").expect("the table")..];
+    let table = &table[..table.find("</table>").unwrap()];
+    assert_eq!(table.matches("<tr class=").count(), 1, "{table}");
+    assert!(
+        table.contains("battery_brownout") && table.contains("critical"),
+        "{table}"
+    );
+    assert!(table.contains("critical_threshold_v=13.200"), "{table}");
+    // The mark, at 30 s on the log's clock.
+    let data = page_data(&html);
+    let origin = data["origin_us"].as_f64().unwrap();
+    let marks: Vec<&Json> = data["marks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["kind"] == "diagnostic")
+        .collect();
+    assert_eq!(marks.len(), 1, "{marks:?}");
+    assert_eq!(marks[0]["text"], "battery_brownout");
+    let at = origin + marks[0]["t"].as_f64().unwrap() * 1e6;
+    assert!((at - 30e6).abs() < 1.0, "the mark at {at} µs");
+    // `ulog analyze` says the same: one source.
+    let json: Json = serde_json::from_str(
+        common::ulog_ok([OsStr::new("analyze"), OsStr::new("--json"), log.as_os_str()]).trim(),
+    )
+    .unwrap();
+    let d = &json["diagnostics"][0];
+    assert_eq!(
+        (d["id"].as_str(), d["timestamp_us"].as_u64()),
+        (Some("battery_brownout"), Some(30_000_000))
+    );
+    assert_eq!(d["end_timestamp_us"], 33_000_000);
+    #[cfg(chromium)]
+    {
+        let r = browse(&out, "battery", None);
+        assert_eq!(r["errors"], serde_json::json!([]), "console errors");
+        let rows = r["diagnostics"].as_array().expect("the table's rows");
+        assert_eq!(rows.len(), 1, "{rows:?}");
+        assert_eq!(rows[0][3], "battery_brownout");
+    }
 }

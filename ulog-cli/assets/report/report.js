@@ -1,6 +1,7 @@
 // The plots of a `ulog report` page, drawn with uPlot from the JSON the page holds:
 // time plots with flight-mode bands and marks, zoom linked across plots, the track,
-// and the level filter of the messages table.
+// the spectra and step responses (their own x axes), the spectrograms (a canvas of
+// coloured cells), and the level filter of the messages table.
 (function () {
   "use strict";
   var data = JSON.parse(document.getElementById("report-data").textContent);
@@ -9,11 +10,13 @@
     "#e377c2", "#17becf", "#393b79", "#bcbd22"];
   // Apart from the line colours, so that tests can tell lines from marks.
   var MARK_COLORS = { arm: "#006400", disarm: "#444444", takeoff: "#0000cd",
-    landing: "#8b008b", error: "#ff0000" };
+    landing: "#8b008b", error: "#ff0000", diagnostic: "#b8860b" };
   var plots = [];
+  // The plots whose x axis is not the log's time: not zoomed with the others.
+  var others = [];
   // For tests and the curious: the uPlot instances, by plot id; `plain` leaves the
   // bands and marks out of the next redraw (a test counts the lines' own pixels).
-  var api = { plots: {}, ready: false, plain: false };
+  var api = { plots: {}, analysis: {}, heatmaps: {}, ready: false, plain: false };
   window.ulogReport = api;
   var syncing = false;
 
@@ -252,6 +255,109 @@
     ctx.fillText("east [m] →, north [m] ↑", size - 130, 12);
   }
 
+  // A spectrum or step response: x is frequency or time after the step, not the
+  // log's time, so it zooms on its own.
+  function addXyPlot(p) {
+    var box = document.createElement("section");
+    box.className = "plot";
+    box.id = "analysis-" + p.id;
+    var h = document.createElement("h3");
+    h.textContent = p.title + (p.unit ? " [" + p.unit + "]" : "");
+    box.appendChild(h);
+    document.getElementById("analysis-plots").appendChild(box);
+    var series = [{ label: p.x_unit, value: valueText }];
+    var columns = [p.x];
+    p.lines.forEach(function (l, i) {
+      var color = COLORS[i % COLORS.length];
+      series.push({ label: l[0], stroke: color, width: 1, value: valueText });
+      columns.push(l[1]);
+    });
+    var y = p.log_y ? { distr: 3 } : { range: yRange };
+    var u = new uPlot({
+      width: plotWidth(),
+      height: 260,
+      series: series,
+      scales: { x: { time: false }, y: y },
+      axes: [{ label: p.x_unit === "Hz" ? "frequency [Hz]" : "seconds after the step" },
+        { label: p.unit, size: 70, values: p.log_y ? powerTicks : undefined }],
+      cursor: { drag: { x: true, y: false } }
+    }, columns, box);
+    others.push(u);
+    api.analysis[p.id] = u;
+  }
+
+  // Ticks of a log axis as powers of ten (uPlot's default writes 1e-5 as "0").
+  function powerTicks(u, ticks) {
+    return ticks.map(function (v) { return v == null ? "" : v.toExponential(0); });
+  }
+
+  // A colour from blue (low) through green to yellow (high), for a value in 0..1.
+  function heatColor(f) {
+    var hue = 240 - 180 * f;
+    return "hsl(" + hue + ",85%," + (25 + 40 * f) + "%)";
+  }
+
+  // A spectrogram: one column of cells per time, frequency upwards, power as colour
+  // between the 2nd and the 99.5th percentile of its cells.
+  function addHeatmap(m) {
+    var box = document.createElement("section");
+    box.className = "plot heatmap";
+    box.id = "heatmap-" + m.id;
+    var h = document.createElement("h3");
+    h.textContent = m.title;
+    box.appendChild(h);
+    var canvas = document.createElement("canvas");
+    var dpr = window.devicePixelRatio || 1;
+    var width = plotWidth(), height = 260;
+    canvas.width = width * dpr;
+    canvas.height = height * dpr;
+    canvas.style.width = width + "px";
+    canvas.style.height = height + "px";
+    box.appendChild(canvas);
+    var cap = document.createElement("p");
+    cap.className = "source";
+    box.appendChild(cap);
+    document.getElementById("analysis-plots").appendChild(box);
+    var cells = [];
+    m.db.forEach(function (c) { c.forEach(function (v) { if (v != null) cells.push(v); }); });
+    cells.sort(function (a, b) { return a - b; });
+    var lo = cells[Math.floor(cells.length * 0.02)] || 0;
+    var hi = cells[Math.min(cells.length - 1, Math.floor(cells.length * 0.995))] || 1;
+    if (!(hi > lo)) hi = lo + 1;
+    var ctx = canvas.getContext("2d");
+    var left = 60 * dpr, bottom = 30 * dpr, top = 8 * dpr, right = 8 * dpr;
+    var w = canvas.width - left - right, hgt = canvas.height - top - bottom;
+    var t0 = m.t.length ? m.t[0] : 0;
+    var t1 = m.t.length ? m.t[m.t.length - 1] + m.width_s : 1;
+    var span = Math.max(t1 - t0, 1e-9);
+    ctx.fillStyle = "#fff";
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    m.db.forEach(function (c, i) {
+      var x0 = left + (m.t[i] - t0) / span * w;
+      var cw = Math.max(m.width_s / span * w, 1);
+      var bh = hgt / c.length;
+      c.forEach(function (v, k) {
+        if (v == null) return;
+        var f = Math.min(1, Math.max(0, (v - lo) / (hi - lo)));
+        ctx.fillStyle = heatColor(f);
+        ctx.fillRect(x0, top + hgt - (k + 1) * bh, cw + 0.5, bh + 0.5);
+      });
+    });
+    ctx.fillStyle = "#444";
+    ctx.font = (10 * dpr) + "px sans-serif";
+    for (var k = 0; k <= 4; k++) {
+      var y = top + hgt - k / 4 * hgt;
+      ctx.fillText((m.max_hz * k / 4).toFixed(0) + " Hz", 4 * dpr, y + 3 * dpr);
+    }
+    for (var j = 0; j <= 4; j++) {
+      var x = left + j / 4 * w;
+      ctx.fillText((t0 + span * j / 4).toFixed(1) + " s", x - 12 * dpr, canvas.height - 10 * dpr);
+    }
+    cap.textContent = "colour: " + lo.toFixed(0) + " dB (blue) to " + hi.toFixed(0) +
+      " dB (yellow); " + m.t.length + " columns of " + m.width_s.toFixed(2) + " s while armed";
+    api.heatmaps[m.id] = { canvas: canvas, columns: m.t.length, bins: m.db.length ? m.db[0].length : 0 };
+  }
+
   function levelFilter() {
     var sel = document.getElementById("level-filter");
     if (!sel) return;
@@ -281,6 +387,8 @@
   modesLegend();
   data.plots.forEach(addPlot);
   zoomAll(extent[0], extent[1]);
+  (data.analysis || []).forEach(addXyPlot);
+  (data.heatmaps || []).forEach(addHeatmap);
   drawTrack();
   levelFilter();
   var resizing = null;
@@ -288,7 +396,7 @@
     clearTimeout(resizing);
     resizing = setTimeout(function () {
       var w = plotWidth();
-      plots.forEach(function (u) { u.setSize({ width: w, height: 260 }); });
+      plots.concat(others).forEach(function (u) { u.setSize({ width: w, height: 260 }); });
     }, 100);
   });
   api.ready = true;

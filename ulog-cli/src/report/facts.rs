@@ -5,6 +5,8 @@ use ulog_core::events::Events;
 use ulog_core::read::{DefaultKind, KeyValue, UtcClock};
 use ulog_core::{Finding, ULog, Value};
 
+use ulog_core::analysis::FlightAnalysis;
+
 use super::flight::Figures;
 use crate::pyfmt::py_str;
 
@@ -21,6 +23,7 @@ pub fn header(
     start: u64,
     figures: &Figures,
     armed_s: f64,
+    flight: &FlightAnalysis,
 ) -> Vec<Row> {
     let mut rows: Vec<Row> = Vec::new();
     let mut add = |k: &str, v: String| rows.push((k.to_owned(), v));
@@ -128,6 +131,36 @@ pub fn header(
                 s
             }
             None => "no battery_status readings".into(),
+        },
+    );
+    let v = &flight.vibration;
+    add(
+        "Vibration",
+        match (v.accel_vibe_mean, v.accel_vibe_max) {
+            (Some(mean), Some(max)) => format!(
+                "{} (accelerometer vibration metric mean {mean:.2}, peak {max:.2} m/s²)",
+                v.status
+            ),
+            _ => "no vehicle_imu_status".into(),
+        },
+    );
+    let count = |sev: &str| {
+        flight
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity.as_str() == sev)
+            .count()
+    };
+    add(
+        "Diagnostics",
+        if flight.diagnostics.is_empty() {
+            "none (battery brownout, EKF failure, GPS interference, motor failure, RC loss)".into()
+        } else {
+            format!(
+                "{} critical, {} warning (table below)",
+                count("critical"),
+                count("warning")
+            )
         },
     );
     let damage: Vec<String> = findings

@@ -1,12 +1,13 @@
 //! What the report reads through typed bindings: attitude (Euler angles from the
-//! quaternions), the local track and the summary's distance, altitude, speed and
-//! battery figures (flight modes, arming, takeoff and landing: [`super::timeline`]).
+//! quaternions) and the local track; the summary's distance, altitude, speed and
+//! battery figures from the library's flight analysis ([`figures`]).
 //!
 //! One struct per topic, whatever the firmware: fields that only some firmware logs
 //! are `Option`s, and the reader finds the rest by name. Each is read from the topic
 //! `ULog::read` picks (instance 0), decoded with the plan it makes, as the second pass
 //! ([`super::pass`]) hands the rows.
 
+use ulog_core::analysis::FlightAnalysis;
 use ulog_core::read::TimeSpan;
 use ulog_core::typed::Plan;
 use ulog_core::{ULog, ULogMessage};
@@ -37,41 +38,16 @@ struct VehicleAttitudeSetpoint {
 }
 
 #[derive(ULogMessage, Debug, Clone, Copy)]
-pub(super) struct VehicleStatus {
-    pub timestamp: u64,
-    pub nav_state: u8,
-    pub arming_state: u8,
-}
-
-#[derive(ULogMessage, Debug, Clone, Copy)]
-pub(super) struct VehicleLandDetected {
-    pub timestamp: u64,
-    pub landed: bool,
-}
-
-#[derive(ULogMessage, Debug, Clone, Copy)]
 struct VehicleLocalPosition {
     timestamp: u64,
     x: f32,
     y: f32,
-    z: f32,
-    vx: f32,
-    vy: f32,
-    vz: f32,
     xy_valid: bool,
-}
-
-#[derive(ULogMessage, Debug, Clone, Copy)]
-struct BatteryStatus {
-    timestamp: u64,
-    voltage_v: f32,
-    remaining: f32,
-    discharged_mah: Option<f32>,
 }
 
 /// The subscription `ULog::read::<T>(0)` reads, and the plan it decodes its rows
 /// with; `None` where the log has no such topic or its format does not fit `T`.
-pub(super) fn typed<T: ULogMessage>(log: &ULog<'_>) -> Option<(usize, Plan<T>)> {
+fn typed<T: ULogMessage>(log: &ULog<'_>) -> Option<(usize, Plan<T>)> {
     typed_instance(log, 0)
 }
 
@@ -280,128 +256,20 @@ pub struct Battery {
     pub discharged_mah: Option<f32>,
 }
 
-/// A step between two estimates faster than this is a reset of the estimator's origin,
-/// not flight.
-const MAX_SPEED_M_S: f32 = 100.0;
-
-/// The distance, altitude and speed figures from the local position estimate, as its
-/// rows come.
-struct Flown {
-    sub: usize,
-    plan: Plan<VehicleLocalPosition>,
-    ground: Option<f32>,
-    prev: Option<VehicleLocalPosition>,
-    distance: f64,
-    top: f32,
-    fastest: f32,
-}
-
-impl Rows for Flown {
-    fn push(&mut self, payload: &[u8]) {
-        let Ok(p) = self.plan.decode(payload) else {
-            return;
-        };
-        if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-            return;
-        }
-        let g = *self.ground.get_or_insert(-p.z);
-        self.top = self.top.max(-p.z - g);
-        let speed = (p.vx * p.vx + p.vy * p.vy).sqrt();
-        if speed.is_finite() {
-            self.fastest = self.fastest.max(speed);
-        }
-        if let Some(a) = self.prev.filter(|a| a.xy_valid && p.xy_valid) {
-            let (dx, dy, dz) = (p.x - a.x, p.y - a.y, p.z - a.z);
-            let step = (dx * dx + dy * dy + dz * dz).sqrt();
-            let dt = p.timestamp.saturating_sub(a.timestamp) as f32 / 1e6;
-            if step <= MAX_SPEED_M_S * dt.max(1e-3) {
-                self.distance += f64::from(step);
-            }
-        }
-        self.prev = Some(p);
-    }
-}
-
-/// The first and last battery readings with a battery connected, as the rows come.
-struct Readings {
-    sub: usize,
-    plan: Plan<BatteryStatus>,
-    first: Option<BatteryStatus>,
-    last: Option<BatteryStatus>,
-}
-
-impl Rows for Readings {
-    fn push(&mut self, payload: &[u8]) {
-        // Before a battery is connected PX4 logs zeros.
-        match self.plan.decode(payload) {
-            Ok(b) if b.voltage_v > 1.0 => {
-                self.first.get_or_insert(b);
-                self.last = Some(b);
-            }
-            _ => {}
-        }
-    }
-}
-
-/// The header's figures being read.
-pub struct FigureRows {
-    flown: Option<Flown>,
-    battery: Option<Readings>,
-}
-
-/// The header's figures, to be read where the log has the topics.
-pub fn figures(log: &ULog<'_>) -> FigureRows {
-    FigureRows {
-        flown: typed::<VehicleLocalPosition>(log).map(|(sub, plan)| Flown {
-            sub,
-            plan,
-            ground: None,
-            prev: None,
-            distance: 0.0,
-            top: f32::NEG_INFINITY,
-            fastest: 0.0,
+/// The header's figures, from the flight analysis (the figures `ulog analyze` gives).
+pub fn figures(flight: &FlightAnalysis) -> Figures {
+    let s = &flight.stats;
+    let b = &flight.battery;
+    let moved = s.position_rows > 0;
+    Figures {
+        distance_m: moved.then_some(s.flown_distance_m),
+        max_altitude_m: moved.then_some(s.max_altitude_above_start_m),
+        max_speed_m_s: moved.then_some(s.max_horizontal_speed_m_s),
+        battery: b.voltage_first_last_v.map(|voltage| Battery {
+            voltage,
+            remaining: b.remaining_first_last.unwrap_or((f32::NAN, f32::NAN)),
+            discharged_mah: b.discharged_mah.map(|m| m as f32),
         }),
-        battery: typed::<BatteryStatus>(log).map(|(sub, plan)| Readings {
-            sub,
-            plan,
-            first: None,
-            last: None,
-        }),
-    }
-}
-
-impl FigureRows {
-    /// Has the second pass hand the rows of the topics here.
-    pub fn route<'c>(&'c mut self, routes: &mut Routes<'c>) {
-        if let Some(f) = &mut self.flown {
-            routes.add(f.sub, f);
-        }
-        if let Some(b) = &mut self.battery {
-            routes.add(b.sub, b);
-        }
-    }
-
-    /// The header's figures, where the log has the topics.
-    pub fn finish(self) -> Figures {
-        let mut f = Figures::default();
-        if let Some(flown) = self.flown.filter(|f| f.ground.is_some()) {
-            f.distance_m = Some(flown.distance);
-            f.max_altitude_m = Some(f64::from(flown.top));
-            f.max_speed_m_s = Some(f64::from(flown.fastest));
-        }
-        if let Some(Readings {
-            first: Some(a),
-            last: Some(b),
-            ..
-        }) = self.battery
-        {
-            f.battery = Some(Battery {
-                voltage: (a.voltage_v, b.voltage_v),
-                remaining: (a.remaining, b.remaining),
-                discharged_mah: b.discharged_mah.filter(|m| m.is_finite()),
-            });
-        }
-        f
     }
 }
 

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::analysis::{DiagnosticRow, Heatmap, XyPlot};
 use super::facts::{InfoRow, Row, Shown};
 use super::plots::{Missing, Plot};
 use super::timeline::{Mark, ModeBand};
@@ -35,6 +36,10 @@ pub struct Drawn {
     pub plots: Vec<Plot>,
     /// The track in local metres (east, north), if any.
     pub track: Option<Vec<[f32; 2]>>,
+    /// Spectra and step responses.
+    pub analysis: Vec<XyPlot>,
+    /// Spectrograms.
+    pub heatmaps: Vec<Heatmap>,
 }
 
 /// Everything on the page.
@@ -57,6 +62,10 @@ pub struct Page {
     pub info: Vec<InfoRow>,
     /// Multi-information.
     pub multi: Vec<InfoRow>,
+    /// The flight analysis's diagnostics.
+    pub diagnostics: Vec<DiagnosticRow>,
+    /// What the flight analysis could not do, and why.
+    pub analysis_notes: Vec<String>,
     /// The drawn part.
     pub drawn: Drawn,
 }
@@ -113,8 +122,19 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
         }
         h.push_str("</ul></details>\n");
     }
+    diagnostics_table(&mut h, &page.diagnostics);
     h.push_str("</section>\n<div id=\"modes\"></div>\n<main id=\"plots\"></main>\n");
     h.push_str("<section id=\"track-section\"></section>\n");
+    h.push_str(
+        "<section id=\"analysis-section\"><h2>Spectra and step responses</h2>\n\
+         <p class=\"help\">Power spectral densities (Welch, 1 s segments) of the raw IMU and \
+         of the controllers' outputs while armed, the IMU's power over time, and the rate \
+         controllers' mean response to a unit step of their setpoint.</p>\n",
+    );
+    for n in &page.analysis_notes {
+        let _ = writeln!(h, "<p class=\"note\">{}</p>", escape(n));
+    }
+    h.push_str("<div id=\"analysis-plots\"></div></section>\n");
 
     messages_table(&mut h, &page.messages);
     h.push_str("<section><h2>Parameters changed from their defaults</h2>\n");
@@ -164,6 +184,32 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
          <script>\n{UPLOT_JS}\n</script>\n<script>\n{REPORT_JS}\n</script>\n</body>\n</html>\n"
     );
     Ok(h)
+}
+
+fn diagnostics_table(h: &mut String, rows: &[DiagnosticRow]) {
+    h.push_str("<h2>Diagnostics</h2>\n");
+    if rows.is_empty() {
+        h.push_str(
+            "<p class=\"note\" id=\"no-diagnostics\">No battery brownout, EKF failure, GPS \
+             interference, motor failure or RC loss found.</p>\n",
+        );
+        return;
+    }
+    h.push_str("<table id=\"diagnostics\" class=\"list\"><thead><tr><th>from</th><th>to</th><th>severity</th><th>diagnostic</th><th>summary</th><th>evidence</th></tr></thead><tbody>\n");
+    for d in rows {
+        let _ = writeln!(
+            h,
+            "<tr class=\"sev-{}\"><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            d.severity,
+            clock(d.t),
+            d.end.map_or_else(String::new, clock),
+            d.severity,
+            d.id,
+            escape(&d.summary),
+            escape(&d.evidence)
+        );
+    }
+    h.push_str("</tbody></table>\n");
 }
 
 fn messages_table(h: &mut String, messages: &[(f64, &'static str, String)]) {

@@ -1,5 +1,6 @@
 //! `ulog report`: one self-contained HTML page with what Flight Review shows of a log.
 
+mod analysis;
 mod facts;
 mod flight;
 mod html;
@@ -12,6 +13,7 @@ mod timeline;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use ulog_core::analysis::{AnalyzeOptions, FlightAnalyzer};
 use ulog_core::events::EventOptions;
 
 use crate::failure::{io_text, stdout_err, Failure, Status};
@@ -36,6 +38,14 @@ use crate::input;
 /// bands behind every plot; arming, takeoff, landing and logged errors are marked.
 /// Zooming one plot (drag; double-click to reset) zooms all; hovering shows every
 /// line's value; legend entries hide lines.
+///
+/// Then what the flight analysis found (the library's `ulog_core::analysis`, as `ulog
+/// analyze` reports it, read in the same pass): Flight Review v2's diagnostics
+/// (battery brownout, EKF failure, GPS interference, motor failure, RC loss) as a
+/// table and as marks on every plot, the vibration status in the header, the power
+/// spectral densities of the raw gyro and accelerometer and of the controllers'
+/// outputs while armed, the gyro's and accelerometer's spectrograms, and the rate
+/// controllers' step responses.
 ///
 /// Then the tables: logged messages and events (filterable by level), parameters
 /// changed from their defaults and during the flight, information and
@@ -85,8 +95,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let span = log.span().clone();
     let start = span.start();
 
-    let mut timeline = timeline::timeline(&log, &span);
-    let mut figures = flight::figures(&log);
+    let mut analyzer = FlightAnalyzer::new(&AnalyzeOptions::default());
     let mut standard = plots::standard(&log, rows, &span);
     let mut attitude = flight::attitude(&log, rows, &span);
     let mut track = flight::track(&log, rows, TRACK_POINTS);
@@ -95,8 +104,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut others = (plots::none_found(&standard) && attitude.is_none())
         .then(|| plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC));
     let mut routes = pass::Routes::new(log.subscriptions().len());
-    timeline.route(&mut routes);
-    figures.route(&mut routes);
     plots::route(&mut standard, &mut routes);
     attitude.route(&mut routes);
     if let Some(t) = &mut track {
@@ -105,10 +112,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(o) = &mut others {
         plots::route_topics(o, &mut routes);
     }
-    pass::read(&input, &name, &survey, routes)?;
+    pass::read(&input, &name, &survey, routes, Some(&mut analyzer))?;
 
-    let timeline = timeline.finish();
-    let figures = figures.finish();
+    let flight = analyzer.finish();
+    let (modes, mut marks, armed_s) = analysis::timeline(&flight, &span);
+    let figures = flight::figures(&flight);
+    let (diagnostics, diagnostic_marks) = analysis::diagnostics(&flight, &span);
+    marks.extend(diagnostic_marks);
     let (mut plots, missing) = plots::finish_standard(standard);
     // Attitude after altitude, as Flight Review orders them.
     let at = plots
@@ -130,17 +140,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 let mut o = plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC);
                 let mut routes = pass::Routes::new(log.subscriptions().len());
                 plots::route_topics(&mut o, &mut routes);
-                pass::read(&input, &name, &survey, routes)?;
+                pass::read(&input, &name, &survey, routes, None)?;
                 o
             }
         };
         plots = plots::finish_topics(others);
     }
-    if timeline.modes.is_empty() {
+    if modes.is_empty() {
         notes.push("No flight modes: the log has no vehicle_status.".to_owned());
     }
     let track = track.and_then(flight::Track::finish);
-    let mut marks = timeline.marks;
     let metadata = &survey.metadata;
     let messages = facts::messages(&log, || metadata.events(&EventOptions::default()), start);
     for (t, level, text) in &messages {
@@ -160,7 +169,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         &survey.summary.findings,
         start,
         &figures,
-        timeline.armed_s,
+        armed_s,
+        &flight,
     );
     let page = html::Page {
         title: args
@@ -175,13 +185,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         messages,
         info,
         multi,
+        diagnostics,
+        analysis_notes: flight.notes.clone(),
         drawn: html::Drawn {
             origin_us: start,
             duration: span.duration_s(),
-            modes: timeline.modes,
+            modes,
             marks,
             plots,
             track,
+            analysis: analysis::xy_plots(&flight),
+            heatmaps: analysis::heatmaps(&flight, &span),
         },
     };
     let text = html::render(&page).map_err(|e| Failure::about(&name, e))?;

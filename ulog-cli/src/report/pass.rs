@@ -1,10 +1,11 @@
 //! The report's passes over a log: the first keeps everything but the data (the
 //! metadata) and counts each subscription's rows; the second hands each data message
-//! to what reads its subscription ([`Routes`]). A file is read in chunks, so the
+//! to what reads its subscription ([`Routes`]) and to the flight analysis. A file is read in chunks, so the
 //! memory is what the page holds, not the log.
 
 use std::path::Path;
 
+use ulog_core::analysis::FlightAnalyzer;
 use ulog_core::read::LogMetadata;
 use ulog_core::{LogFile, ReadError, ScanOptions, ScanSummary, Source};
 
@@ -122,13 +123,15 @@ impl<'c> Routes<'c> {
 
 /// A second pass: each data message to what reads its subscription. The log must be
 /// the one the first pass (`survey`) read: one that changed meanwhile is a failure.
+/// `analyzer`, where given, is handed every data message too.
 pub fn read(
     input: &Input,
     name: &str,
     survey: &Survey,
     mut routes: Routes<'_>,
+    mut analyzer: Option<&mut FlightAnalyzer>,
 ) -> Result<(), Failure> {
-    if routes.by_sub.iter().all(Vec::is_empty) {
+    if routes.by_sub.iter().all(Vec::is_empty) && analyzer.is_none() {
         return Ok(());
     }
     let summary = ulog_core::scan(input.source(), &options(), |r| {
@@ -137,6 +140,9 @@ pub fn read(
             for rows in readers {
                 rows.push(r.payload);
             }
+        }
+        if let Some(a) = analyzer.as_deref_mut() {
+            a.push(r.topic, r.payload);
         }
     })
     .map_err(|e| failure(input, name, &e))?;

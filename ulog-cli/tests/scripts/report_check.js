@@ -2,7 +2,8 @@
 // browser) and prints, as one JSON object, what the Rust test (tests/report.rs) checks:
 // console errors and requests, each plot's drawn line pixels, the ranges after a zoom,
 // the legend's values where the mouse hovers, the messages table's rows, the title and
-// the text of every table cell (tests/text_in_documents.rs).
+// the text of every table cell (tests/text_in_documents.rs), the spectra's and step
+// responses' line pixels, the spectrograms' coloured cells and the diagnostics table.
 //
 //   node report_check.js REPORT.html HOVER_PLOT [SCREENSHOT.png]
 "use strict";
@@ -65,6 +66,43 @@ async function main() {
       await frame();
       return res;
     });
+    // The spectra and step responses (line pixels, as above) and the spectrograms
+    // (coloured cells, their columns and bins).
+    out.analysis = await page.evaluate(() => {
+      const res = {};
+      for (const [id, u] of Object.entries(window.ulogReport.analysis || {})) {
+        const c = u.ctx.canvas;
+        const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
+        let line = 0;
+        for (let i = 0; i < px.length; i += 4) {
+          if (px[i + 3] < 64) continue;
+          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
+          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
+          if (hi - lo >= 24) line += 1;
+        }
+        res[id] = { linePixels: line, series: u.series.length - 1 };
+      }
+      return res;
+    });
+    out.heatmaps = await page.evaluate(() => {
+      const res = {};
+      for (const [id, m] of Object.entries(window.ulogReport.heatmaps || {})) {
+        const c = m.canvas;
+        const px = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+        let coloured = 0;
+        for (let i = 0; i < px.length; i += 4) {
+          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
+          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
+          if (hi - lo >= 24) coloured += 1;
+        }
+        res[id] = { colouredPixels: coloured, pixels: c.width * c.height,
+          columns: m.columns, bins: m.bins };
+      }
+      return res;
+    });
+    out.diagnostics = await page.evaluate(() =>
+      Array.from(document.querySelectorAll("#diagnostics tbody tr")).map((tr) =>
+        Array.from(tr.querySelectorAll("td")).map((td) => td.textContent)));
     out.track = await page.evaluate(() => {
       const c = document.getElementById("track");
       if (!c) return null;
@@ -164,6 +202,10 @@ async function main() {
       await page.setViewportSize({ width: 1280, height: 1500 });
       await page.waitForTimeout(300);
       await page.screenshot({ path: screenshot });
+      const analysis = await page.$("#analysis-section");
+      if (analysis) {
+        await analysis.screenshot({ path: screenshot.replace(/\.png$/, "") + "-analysis.png" });
+      }
     }
     // `data:` URLs hold their bytes (the download links fetched above): no request
     // leaves the page.

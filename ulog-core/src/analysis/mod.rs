@@ -43,7 +43,7 @@ pub use error::AnalysisError;
 pub use flight::{
     analyze, mode_name, AnalyzeOptions, AxisSpectrum, AxisStep, BatterySummary, Diagnostic,
     EventKind, Evidence, EvidenceValue, FlightAnalysis, FlightAnalyzer, FlightStats, GpsQuality,
-    ModeSegment, Severity, Timeline, VibrationSummary,
+    ModeSegment, Severity, SignalSpectrogram, Timeline, VibrationSummary,
 };
 pub use resample::{resample, sample_rate, ResampleOptions, Uniform};
 pub use spectrogram::{spectrogram, Spectrogram, SpectrogramOptions};

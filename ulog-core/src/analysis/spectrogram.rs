@@ -122,19 +122,22 @@ pub fn spectrogram<T: Copy + Into<f64>>(
         times_s.push((start as f64 + seg as f64 / 2.0) / rate_hz);
         start += step;
     }
+    Ok(Spectrogram {
+        times_s,
+        frequencies: density.frequencies(),
+        power_db: to_db(rows),
+    })
+}
+
+/// Densities as dB, clipped [`FLOOR_BELOW_MAX`] below the strongest cell.
+pub(crate) fn to_db(rows: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
     let max = rows.iter().flatten().copied().fold(0.0f64, f64::max);
     let floor = (max * FLOOR_BELOW_MAX).max(f64::MIN_POSITIVE);
-    let power_db = rows
-        .into_iter()
+    rows.into_iter()
         .map(|row| {
             row.into_iter()
                 .map(|p| 10.0 * p.max(floor).log10())
                 .collect()
         })
-        .collect();
-    Ok(Spectrogram {
-        times_s,
-        frequencies: density.frequencies(),
-        power_db,
-    })
+        .collect()
 }

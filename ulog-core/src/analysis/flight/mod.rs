@@ -27,7 +27,7 @@ mod topics;
 pub use diagnostic::{Diagnostic, Evidence, EvidenceValue, Severity};
 pub use gps::GpsQuality;
 pub use modes::{mode_name, EventKind, ModeSegment, Timeline};
-pub use spectra::AxisSpectrum;
+pub use spectra::{AxisSpectrum, SignalSpectrogram};
 pub use stats::{BatterySummary, FlightStats, VibrationSummary};
 pub use steps::AxisStep;
 
@@ -93,8 +93,11 @@ pub struct FlightAnalysis {
     /// The accelerometer's vibration metric.
     pub vibration: VibrationSummary,
     /// The spectra of `sensor_combined`'s gyro and accelerometer axes while armed,
-    /// with their dominant frequencies.
+    /// with their dominant frequencies, and of the rate controllers' outputs
+    /// (`actuator_controls_0` or `vehicle_torque_setpoint`: roll, pitch, yaw).
     pub spectra: Vec<AxisSpectrum>,
+    /// The gyro's and the accelerometer's power over time while armed.
+    pub spectrograms: Vec<SignalSpectrogram>,
     /// The rate controllers' step responses over the longest armed stretch.
     pub step_responses: Vec<AxisStep>,
     /// The first and last time of a row the analysis read, µs.
@@ -286,6 +289,8 @@ struct Pass {
     rc: rc_loss::RcLoss,
     gyro: spectra::Welch,
     accel: spectra::Welch,
+    controls: spectra::Welch,
+    torque: spectra::Welch,
     steps: steps::Steps,
     notes: Vec<String>,
 }
@@ -308,8 +313,10 @@ impl Pass {
             gps: gps::Gps::default(),
             motors: motors::Motors::default(),
             rc: rc_loss::RcLoss::default(),
-            gyro: spectra::Welch::new("gyro_rad"),
-            accel: spectra::Welch::new("accelerometer_m_s2"),
+            gyro: spectra::Welch::new("sensor_combined", "gyro_rad"),
+            accel: spectra::Welch::new("sensor_combined", "accelerometer_m_s2"),
+            controls: spectra::Welch::new("actuator_controls_0", "control"),
+            torque: spectra::Welch::new("vehicle_torque_setpoint", "xyz"),
             steps: steps::Steps::default(),
             notes: Vec::new(),
         }
@@ -329,8 +336,14 @@ impl Pass {
                 let armed = s.arming_state == 2;
                 if self.now.armed && !armed {
                     self.steps.disarmed();
-                    self.gyro.gap();
-                    self.accel.gap();
+                    for w in [
+                        &mut self.gyro,
+                        &mut self.accel,
+                        &mut self.controls,
+                        &mut self.torque,
+                    ] {
+                        w.gap();
+                    }
                 }
                 self.now.armed = armed;
                 self.now.nav_state = Some(s.nav_state);
@@ -366,6 +379,13 @@ impl Pass {
                 self.gyro.push(time, s.gyro_rad);
                 self.accel.push(time, s.accelerometer_m_s2);
             }
+            FlightTopic::Controls(c) if first && self.now.armed && self.options.spectra => {
+                self.controls
+                    .push(time, [c.control[0], c.control[1], c.control[2]]);
+            }
+            FlightTopic::Torque(t) if first && self.now.armed && self.options.spectra => {
+                self.torque.push(time, t.xyz);
+            }
             _ => {}
         }
     }
@@ -382,9 +402,19 @@ impl Pass {
         diagnostics.sort_by_key(|d| (d.timestamp_us, d.id));
         let (stats, battery, vibration) = self.stats.finish();
         let mut spectra = Vec::new();
+        let mut spectrograms = Vec::new();
         if self.options.spectra {
-            spectra.extend(self.gyro.finish());
-            spectra.extend(self.accel.finish());
+            for (i, w) in [self.gyro, self.accel, self.controls, self.torque]
+                .into_iter()
+                .enumerate()
+            {
+                let (axes, spectrogram) = w.finish();
+                spectra.extend(axes);
+                // The IMU's: Flight Review draws those two over time.
+                if i < 2 {
+                    spectrograms.extend(spectrogram);
+                }
+            }
         }
         let mut step_responses = Vec::new();
         if self.options.step_response {
@@ -423,6 +453,7 @@ impl Pass {
             gps,
             vibration,
             spectra,
+            spectrograms,
             step_responses,
             span_us: self.span,
             notes: self.notes,

@@ -10,8 +10,12 @@ use super::topics::{
 #[derive(Debug, Clone, Default, PartialEq)]
 #[non_exhaustive]
 pub struct FlightStats {
-    /// The length of the local position's path (3D), m.
+    /// The length of the local position's path (3D) over every row, m (Flight Review
+    /// v2's figure: estimator noise on the ground and origin resets count).
     pub total_distance_m: f64,
+    /// Metres flown: the 3D steps between consecutive estimates that are both valid
+    /// horizontally, a step faster than 100 m/s (an origin reset) left out.
+    pub flown_distance_m: f64,
     /// The highest altitude minus the lowest (local position), m.
     pub max_altitude_diff_m: f64,
     /// The highest altitude above the first local position, m.
@@ -46,6 +50,11 @@ pub struct BatterySummary {
     pub max_current_a: Option<f64>,
     /// Charge used, mAh (the last `discharged_mah`).
     pub discharged_mah: Option<f64>,
+    /// The first and last voltage with a battery connected (above 1 V: before, PX4
+    /// logs zeros), V.
+    pub voltage_first_last_v: Option<(f32, f32)>,
+    /// The remaining fraction (0–1) at those two readings.
+    pub remaining_first_last: Option<(f32, f32)>,
 }
 
 /// The accelerometer's vibration (`vehicle_imu_status.accel_vibration_metric`, every
@@ -67,6 +76,8 @@ pub struct VibrationSummary {
 pub(super) struct Stats {
     s: FlightStats,
     prev: Option<[f32; 3]>,
+    /// The last estimate valid horizontally (time, position), for the distance flown.
+    prev_valid: Option<(u64, [f32; 3])>,
     z_range: Option<(f32, f32)>,
     z_start: Option<f32>,
     speed_sum: f64,
@@ -83,6 +94,10 @@ pub(super) struct Stats {
     vibe_max: f32,
 }
 
+/// A step between two estimates faster than this is a reset of the estimator's
+/// origin, not flight.
+const MAX_FLOWN_SPEED_M_S: f32 = 100.0;
+
 fn finite3(v: [f32; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
@@ -95,6 +110,21 @@ impl Stats {
     pub(super) fn position(&mut self, p: &VehicleLocalPosition) {
         self.s.position_rows += 1;
         let at = [p.x, p.y, p.z];
+        // A row without a finite position is skipped; one not valid horizontally
+        // breaks the path flown.
+        if finite3(at) && p.xy_valid == Some(false) {
+            self.prev_valid = None;
+        } else if finite3(at) {
+            if let Some((t0, a)) = self.prev_valid {
+                let d: [f32; 3] = std::array::from_fn(|i| at[i] - a[i]);
+                let step = norm(d);
+                let dt = p.timestamp.saturating_sub(t0) as f32 * 1e-6;
+                if step <= MAX_FLOWN_SPEED_M_S * dt.max(1e-3) {
+                    self.s.flown_distance_m += f64::from(step);
+                }
+            }
+            self.prev_valid = Some((p.timestamp, at));
+        }
         if finite3(at) {
             if let Some(prev) = self.prev {
                 let d: [f32; 3] = std::array::from_fn(|i| at[i] - prev[i]);
@@ -111,14 +141,16 @@ impl Stats {
                 .max_altitude_above_start_m
                 .max(f64::from(start - p.z));
         }
+        let horizontal = norm([p.vx, p.vy, 0.0]);
+        if horizontal.is_finite() {
+            let s = &mut self.s;
+            s.max_horizontal_speed_m_s = s.max_horizontal_speed_m_s.max(f64::from(horizontal));
+        }
         let v = [p.vx, p.vy, p.vz];
         if finite3(v) {
             let s = &mut self.s;
             let speed = norm(v);
             s.max_speed_m_s = s.max_speed_m_s.max(f64::from(speed));
-            s.max_horizontal_speed_m_s = s
-                .max_horizontal_speed_m_s
-                .max(f64::from(norm([p.vx, p.vy, 0.0])));
             s.max_speed_up_m_s = s.max_speed_up_m_s.max(f64::from(-p.vz));
             s.max_speed_down_m_s = s.max_speed_down_m_s.max(f64::from(p.vz));
             self.speed_sum += f64::from(speed);
@@ -165,6 +197,14 @@ impl Stats {
         if b.voltage_v.is_finite() && b.voltage_v > 0.0 {
             let v = f64::from(b.voltage_v);
             bat.min_voltage_v = Some(bat.min_voltage_v.map_or(v, |m| m.min(v)));
+        }
+        if b.voltage_v > 1.0 {
+            let (first, _) = bat.voltage_first_last_v.unwrap_or((b.voltage_v, 0.0));
+            bat.voltage_first_last_v = Some((first, b.voltage_v));
+            if let Some(r) = b.remaining {
+                let (first, _) = bat.remaining_first_last.unwrap_or((r, 0.0));
+                bat.remaining_first_last = Some((first, r));
+            }
         }
         if let Some(d) = b.discharged_mah.filter(|d| d.is_finite() && *d >= 0.0) {
             bat.discharged_mah = Some(f64::from(d));

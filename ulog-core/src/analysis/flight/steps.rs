@@ -12,6 +12,10 @@ use crate::analysis::{
 pub(super) const MAX_ROWS: usize = 1 << 18;
 /// Interpolation bridges intervals up to this many times the median one.
 const MAX_GAP: f64 = 20.0;
+/// A window whose setpoint moves less than this (peak to peak, rad/s: about 20°/s)
+/// is left out: deconvolving a setpoint that barely moves gives noise, not a
+/// response (a yaw held still, a hover).
+const MIN_EXCITATION_RAD_S: f64 = 0.35;
 
 /// The axes, in `xyz` order.
 const AXES: [&str; 3] = ["roll", "pitch", "yaw"];
@@ -120,7 +124,7 @@ fn responses(s: &Stretch) -> Result<Vec<Result<AxisStep, String>>, AnalysisError
             &sp.values[..n],
             &re.values[..n],
             rate_hz,
-            &StepResponseOptions::default(),
+            &StepResponseOptions::default().min_excitation(MIN_EXCITATION_RAD_S),
         );
         out.push(
             response

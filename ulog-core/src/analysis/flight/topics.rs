@@ -32,6 +32,7 @@ pub(super) struct BatteryStatus {
     pub voltage_v: f32,
     pub voltage_filtered_v: Option<f32>,
     pub current_a: f32,
+    pub remaining: Option<f32>,
     pub discharged_mah: Option<f32>,
     /// `int32_t` until 2020, `uint8_t` since (widened); absent in the oldest logs.
     pub cell_count: Option<i32>,
@@ -83,6 +84,8 @@ pub(super) struct InputRc {
 #[ulog(crate = "crate")]
 pub(super) struct VehicleLocalPosition {
     pub timestamp: u64,
+    /// Absent in the oldest logs: every estimate counts as valid there.
+    pub xy_valid: Option<bool>,
     pub x: f32,
     pub y: f32,
     pub z: f32,
@@ -140,6 +143,23 @@ pub(super) struct SensorCombined {
     pub accelerometer_m_s2: [f32; 3],
 }
 
+/// `actuator_controls_0` (until 2023): the controllers' outputs, roll, pitch, yaw,
+/// thrust first.
+#[derive(ULogMessage, Debug, Clone, Copy)]
+#[ulog(crate = "crate", name = "actuator_controls_0")]
+pub(super) struct ActuatorControls {
+    pub timestamp: u64,
+    pub control: [f32; 8],
+}
+
+/// `vehicle_torque_setpoint` (since 2021): the rate controllers' torque outputs.
+#[derive(ULogMessage, Debug, Clone, Copy)]
+#[ulog(crate = "crate")]
+pub(super) struct VehicleTorqueSetpoint {
+    pub timestamp: u64,
+    pub xyz: [f32; 3],
+}
+
 /// Every topic the analysis reads, decoded in one pass.
 #[derive(ULogTopics, Debug)]
 #[ulog(crate = "crate")]
@@ -157,6 +177,8 @@ pub(super) enum FlightTopic {
     RatesSetpoint(VehicleRatesSetpoint),
     Imu(VehicleImuStatus),
     Sensors(SensorCombined),
+    Controls(ActuatorControls),
+    Torque(VehicleTorqueSetpoint),
 }
 
 impl FlightTopic {
@@ -176,6 +198,8 @@ impl FlightTopic {
             FlightTopic::RatesSetpoint(m) => m.timestamp,
             FlightTopic::Imu(m) => m.timestamp,
             FlightTopic::Sensors(m) => m.timestamp,
+            FlightTopic::Controls(m) => m.timestamp,
+            FlightTopic::Torque(m) => m.timestamp,
         }
     }
 }
