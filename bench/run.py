@@ -538,6 +538,21 @@ def programs(bins, path, peers, pyulog_ok, ulog2csv, parquet, taskset, extra):
                          [b["ulog"], "report", path, "-o", "{out}/report.html"],
                          out_dir=True, baseline=False,
                          note="one HTML page: header, standard plots thinned, tables"))
+    # The flight analysis (issue 47): one pass, at most 2 × ulog info, bounded memory;
+    # flight-review-rs computes the same analysis (and its diagnostics) while it
+    # writes metadata.json.
+    if cli_has(b["ulog"], "analyze"):
+        P.append(Program("flight analysis", "ours (ulog analyze)",
+                         [b["ulog"], "analyze", "--json", path],
+                         versus="ours (ulog info)",
+                         note="diagnostics, statistics, spectra, step responses; ratio "
+                              "against ulog info"))
+        if "flight_review" in extra:
+            P.append(Program("flight analysis", "flight-review-rs (ulog-convert --metadata-only)",
+                             [extra["flight_review"], "--metadata-only", path, "{out}"],
+                             out_dir=True, versus="ours (ulog analyze)",
+                             note="metadata.json with its analysis and diagnostics; ratio "
+                                  "against ours (ulog analyze)"))
     # Parquet export: run when the CLI was built with its `parquet` subcommand.
     if parquet:
         # Snappy, as the rows of earlier runs (the default is zstd since datasets).
@@ -749,6 +764,11 @@ def targets(results, size):
     ratio("MCAP export ≤ CSV export (ulog csv)", t("ours (ulog mcap)"), t("ours (ulog csv)"), 1.0)
     ratio("align ≤ 1.5 × csv -m (the same three topics)", t("ours (ulog align)"),
           t("ours (ulog csv -m, the three topics)"), 1.5)
+    ratio("flight analysis (ulog analyze) ≤ 2 × ulog info", t("ours (ulog analyze)"),
+          t("ours (ulog info)"), 2.0)
+    ratio("flight analysis peak RSS ≤ 64 MiB", rss("ours (ulog analyze)"), 64 * 2**20, 1.0)
+    ratio("flight analysis ≤ flight-review-rs ulog-convert --metadata-only",
+          t("ours (ulog analyze)"), t("flight-review-rs (ulog-convert --metadata-only)"), 1.0)
     # Measured as a fraction of the time allowed for this log's size.
     ratio("flight report ≤ 3 s per 300 MB of log", t("ours (ulog report)"), 3.0 * size / 300e6, 1.0)
     # Bounded whatever the log's size: the report reads the log in passes of chunks.

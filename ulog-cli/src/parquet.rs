@@ -22,7 +22,9 @@ use crate::progress::Progress;
 /// start in boot time and UTC, duration, system, versions, vehicle type, counts, damage
 /// found); `parameters.parquet` the initial, changed and default parameters;
 /// `messages.parquet` the logged strings and PX4 events; `formats.parquet` the message
-/// formats of each log.
+/// formats of each log; `analysis.parquet` the diagnostics of the flight analysis
+/// (`ulog analyze`, made in the same pass) and `flights.parquet` its flight statistics,
+/// one row per log.
 ///
 /// `log_id` is the log's XXH3 64-bit hash in 16 hex digits: a log already in the
 /// dataset is skipped, so converting into an existing dataset adds only the new logs.
@@ -201,12 +203,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let mut out = io::stdout().lock();
         writeln!(
             out,
-            "Writing {} ({}, {}, {}, {}: {logs} log{})",
+            "Writing {} ({}, {}, {}, {}, {}, {}: {logs} log{})",
             dir.display(),
             export::LOGS_FILE,
             export::PARAMETERS_FILE,
             export::MESSAGES_FILE,
             export::FORMATS_FILE,
+            export::ANALYSIS_FILE,
+            export::FLIGHTS_FILE,
             if logs == 1 { "" } else { "s" }
         )
         .map_err(stdout_err)?;

@@ -528,6 +528,8 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
         "parameters.parquet",
         "messages.parquet",
         "formats.parquet",
+        "analysis.parquet",
+        "flights.parquet",
     ];
     for (rel, time) in &times {
         let now = std::fs::metadata(grown.join(rel))
@@ -620,6 +622,11 @@ fn two_conversions_at_once_both_land() {
     assert_eq!(files(&dir), files(&single), "the dataset of one conversion");
     let parquet = ending_in(&dir, ".parquet");
     for rel in &parquet {
+        // The corpus's logs have no diagnostic: the table of them is empty (DuckDB
+        // reads it below).
+        if rel == Path::new(export::ANALYSIS_FILE) {
+            continue;
+        }
         assert!(read(&dir.join(rel)).num_rows() > 0, "{}", rel.display());
     }
     assert_eq!(read(&dir.join("logs.parquet")).num_rows(), logs.len());
@@ -697,4 +704,103 @@ fn several_logs_need_a_dataset_folder() {
     let dir = log.with_file_name("sample");
     assert_eq!(read(&dir.join("logs.parquet")).num_rows(), 1);
     assert!(dir.join("esc_status").is_dir());
+}
+
+#[test]
+#[cfg_attr(
+    not(query_engines),
+    ignore = "needs python3 with duckdb and datafusion (pip install duckdb datafusion)"
+)]
+fn the_readmes_analysis_queries_answer_what_ulog_analyze_says() {
+    let dir = common::scratch("fleet_analysis");
+    let mut logs = logs();
+    logs.push(common::brownout_log(&dir));
+    let dataset = dir.join("dataset");
+    let out = convert(&logs, &dataset, &[]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scripts/fleet_queries.py");
+    let answers: Json = serde_json::from_slice(&common::python([
+        script.as_os_str(),
+        readme.as_os_str(),
+        dataset.as_os_str(),
+    ]))
+    .expect("json");
+    let duck = answers["duckdb"].as_array().expect("answers");
+    // What `ulog analyze` says of each log.
+    let mut brownouts = Vec::new();
+    let mut flights = Vec::new();
+    for log in &logs {
+        let text = common::ulog_ok([OsStr::new("analyze"), OsStr::new("--json"), log.as_os_str()]);
+        let a: Json = serde_json::from_str(text.trim()).expect("analyze's JSON");
+        let path = log.display().to_string();
+        let diagnostics = a["diagnostics"].as_array().unwrap();
+        for d in diagnostics.iter().filter(|d| d["id"] == "battery_brownout") {
+            brownouts.push((
+                path.clone(),
+                d["severity"].as_str().unwrap().to_owned(),
+                d["timestamp_us"].as_u64().unwrap(),
+                d["summary"].as_str().unwrap().to_owned(),
+            ));
+        }
+        let critical = diagnostics
+            .iter()
+            .filter(|d| d["severity"] == "critical")
+            .count();
+        flights.push((
+            path,
+            a["vibration"]["status"].as_str().unwrap().to_owned(),
+            a["vibration"]["accel_vibe_max"].as_f64(),
+            diagnostics.len() as u64,
+            critical as u64,
+        ));
+    }
+    // 6. The written log's brownout, and no other.
+    assert_eq!(brownouts.len(), 1, "{brownouts:?}");
+    let got: Vec<(String, String, u64, String)> = duck[5]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r[0].as_str().unwrap().to_owned(),
+                r[2].as_str().unwrap().to_owned(),
+                r[3].as_u64().unwrap(),
+                r[4].as_str().unwrap().to_owned(),
+            )
+        })
+        .collect();
+    assert_eq!(got, brownouts, "which flights had a brownout");
+    // 7. One row per flight, worst vibration first.
+    let mut got: Vec<(String, String, Option<f64>, u64, u64)> = duck[6]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r[0].as_str().unwrap().to_owned(),
+                r[1].as_str().unwrap().to_owned(),
+                r[2].as_f64(),
+                r[3].as_u64().unwrap(),
+                r[4].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    let maxima: Vec<Option<f64>> = got.iter().map(|r| r.2).collect();
+    let mut sorted = maxima.clone();
+    sorted.sort_by(|a, b| match (a, b) {
+        (Some(a), Some(b)) => b.total_cmp(a),
+        (a, b) => b.is_some().cmp(&a.is_some()),
+    });
+    assert_eq!(
+        maxima, sorted,
+        "worst vibration first, flights without last"
+    );
+    got.sort_by(|a, b| a.0.cmp(&b.0));
+    flights.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(got, flights, "vibration and diagnostics per flight");
 }

@@ -126,3 +126,37 @@ pub fn message_line(level: u64, timestamp: u64, text: &str) -> String {
         ms % 1000
     )
 }
+
+/// A written flight of a 4S battery whose voltage dips below 3.3 V per cell (13.2 V)
+/// from 30 s to 33 s while armed (armed from 2 s to 60 s).
+pub fn brownout_log(dir: &Path) -> PathBuf {
+    let mut b = ulog_core::testing::LogBuilder::new(1, 0);
+    b.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;uint8_t nav_state;");
+    b.format(
+        "battery_status:uint64_t timestamp;float voltage_v;float current_a;uint8_t cell_count;",
+    );
+    b.subscribe(0, 0, "vehicle_status");
+    b.subscribe(0, 1, "battery_status");
+    for i in 0..=620u64 {
+        let t = 1_000_000 + i * 100_000;
+        if i % 5 == 0 {
+            let armed = (2_000_000..60_000_000).contains(&t);
+            let mut p = t.to_le_bytes().to_vec();
+            p.extend([if armed { 2u8 } else { 1 }, 2]);
+            b.data(0, &p);
+        }
+        let volts: f32 = if (30_000_000..=33_000_000).contains(&t) {
+            12.9
+        } else {
+            15.5
+        };
+        let mut p = t.to_le_bytes().to_vec();
+        p.extend(volts.to_le_bytes());
+        p.extend(8.0f32.to_le_bytes());
+        p.push(4);
+        b.data(1, &p);
+    }
+    let path = dir.join("brownout.ulg");
+    std::fs::write(&path, b.into_bytes()).expect("write the log");
+    path
+}

@@ -1,4 +1,4 @@
-"""Runs the README's "Fleet analysis" queries over a dataset, with DuckDB and, for
+"""Runs the README's seven "Fleet analysis" queries over a dataset, with DuckDB and, for
 three of them, DataFusion, and prints the answers as JSON for ulog-cli/tests/fleet.rs
 to check against the ulog reader.
 
@@ -35,7 +35,7 @@ def rows(relation):
 def main():
     readme, dataset = sys.argv[1], sys.argv[2]
     queries = [q.replace("DATASET", dataset) for q in readme_queries(readme)]
-    assert len(queries) == 5, f"the README has {len(queries)} queries, not 5"
+    assert len(queries) == 7, f"the README has {len(queries)} queries, not 7"
     con = duckdb.connect()
     out = {"duckdb": [rows(con.sql(q)) for q in queries]}
 

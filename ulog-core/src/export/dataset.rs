@@ -73,7 +73,12 @@ const LOG_ID_RULE: &str = "xxh3-64";
 ///   (`initial`, `changed`, `default-system`, `default-configuration`);
 /// - [`MESSAGES_FILE`]: `log_id`, `timestamp`, `kind` (`logged`, `tagged`, `event`),
 ///   `level`, `tag`, `text`, `event` (the event's name);
-/// - [`FORMATS_FILE`]: `log_id`, `name`, `format` (as the log defines it).
+/// - [`FORMATS_FILE`]: `log_id`, `name`, `format` (as the log defines it);
+/// - [`ANALYSIS_FILE`](super::ANALYSIS_FILE): the diagnostics of the flight analysis
+///   ([`crate::analysis`], made in the same pass), one row per log and diagnostic;
+///   [`FLIGHTS_FILE`](super::FLIGHTS_FILE): its flight statistics, one row per log
+///   (a dataset written by an earlier version has neither: its logs have no rows
+///   there).
 ///
 /// `log_id` is the log's XXH3 64-bit hash in 16 hex digits: the same
 /// log has the same id wherever it is, and converting it into a dataset that has it
@@ -130,7 +135,7 @@ struct State {
     /// The logs in the dataset, those being added included.
     ids: BTreeSet<String>,
     /// Each table's rows by log.
-    tables: [BTreeMap<String, Vec<RecordBatch>>; 4],
+    tables: [BTreeMap<String, Vec<RecordBatch>>; 6],
 }
 
 /// What [`Dataset::add`] did.
@@ -346,7 +351,7 @@ impl Origin {
 
 /// A log's rows of the four tables, in the order of [`tables`].
 #[derive(Debug)]
-struct LogTables([RecordBatch; 4]);
+struct LogTables([RecordBatch; 6]);
 
 /// A `log_id` as written: the XXH3-64 of the bytes hashed, 16 hex digits.
 fn id_text(hash: &xxhash_rust::xxh3::Xxh3) -> String {
@@ -376,7 +381,7 @@ fn field(name: &str, ty: DataType, nullable: bool) -> Field {
 }
 
 /// The four tables: file name and schema.
-fn tables() -> [(&'static str, SchemaRef); 4] {
+fn tables() -> [(&'static str, SchemaRef); 6] {
     let utc = DataType::Timestamp(TimeUnit::Microsecond, Some("UTC".into()));
     let text = |name| field(name, DataType::Utf8, true);
     let logs = Schema::new(vec![
@@ -426,11 +431,14 @@ fn tables() -> [(&'static str, SchemaRef); 4] {
         field("name", DataType::Utf8, false),
         field("format", DataType::Utf8, false),
     ]);
+    let [analysis, flights] = super::flights::tables();
     [
         (LOGS_FILE, Arc::new(logs)),
         (PARAMETERS_FILE, Arc::new(parameters)),
         (MESSAGES_FILE, Arc::new(messages)),
         (FORMATS_FILE, Arc::new(formats)),
+        analysis,
+        flights,
     ]
 }
 
@@ -455,7 +463,7 @@ impl LogTables {
         origin: &Origin,
         utc: Option<UtcClock>,
     ) -> Result<LogTables> {
-        let [logs, parameters, messages, formats] = tables().map(|(_, schema)| schema);
+        let [logs, parameters, messages, formats, _, _] = tables().map(|(_, schema)| schema);
         let log_id = origin.log_id.as_str();
         let ids = |n: usize| -> ArrayRef {
             Arc::new(StringArray::from_iter_values(
@@ -600,7 +608,13 @@ impl LogTables {
                 )),
             ],
         )?;
-        Ok(LogTables([logs, parameters, messages, formats]))
+        let Some(flight) = facts.flight else {
+            unreachable!("a dataset's pass analyses the log")
+        };
+        let [analysis, flights] = super::flights::batches(log_id, flight)?;
+        Ok(LogTables([
+            logs, parameters, messages, formats, analysis, flights,
+        ]))
     }
 }
 

@@ -62,6 +62,7 @@ pub fn metadata_json(log: &ULog<'_>) -> String {
             rows: &rows,
             #[cfg(feature = "events")]
             events: Some(&events),
+            flight: None,
         },
     )
 }
@@ -77,6 +78,8 @@ pub(super) struct Facts<'f> {
     /// The PX4 events, decoded.
     #[cfg(feature = "events")]
     pub events: Option<&'f crate::events::Events>,
+    /// The flight analysis of a dataset's log (made in the same pass).
+    pub flight: Option<&'f crate::analysis::FlightAnalysis>,
 }
 
 /// [`metadata_json`] of `log` with `facts`.

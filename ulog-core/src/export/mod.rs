@@ -66,6 +66,7 @@ mod arrow;
 mod dataset;
 mod error;
 mod files;
+mod flights;
 mod lazy_file;
 mod leaves;
 mod lock;
@@ -84,6 +85,7 @@ use arrow_schema::SchemaRef;
 
 pub use dataset::{Added, Dataset, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE};
 pub use files::{write_topic, writer_properties, Export, Skipped, Written};
+pub use flights::{ANALYSIS_FILE, FLIGHTS_FILE};
 pub use lock::LOCK_FILE;
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
 pub use stream::{write_parquet, write_parquet_with};

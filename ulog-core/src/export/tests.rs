@@ -1100,8 +1100,15 @@ fn a_log_that_fails_leaves_the_dataset_as_it_was() {
     left.sort();
     assert_eq!(
         left,
-        [FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE],
-        "the four tables, empty, and nothing else"
+        [
+            ANALYSIS_FILE,
+            FLIGHTS_FILE,
+            FORMATS_FILE,
+            LOGS_FILE,
+            MESSAGES_FILE,
+            PARAMETERS_FILE
+        ],
+        "the six tables, empty, and nothing else"
     );
     assert_eq!(read_back_rows(&dir.join(LOGS_FILE)), 0);
 

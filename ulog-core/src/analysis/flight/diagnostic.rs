@@ -147,6 +147,36 @@ impl Evidence {
         }
     }
 
+    /// Its figures as a JSON object with its [`kind`](Self::kind) as `type` (Flight
+    /// Review v2's form): floats that are not finite, and figures not logged, as `null`.
+    ///
+    /// ```
+    /// use ulog_core::analysis::Evidence;
+    /// let e = Evidence::RcLoss { last_signal_timestamp_us: 61_100_000, signal_lost_duration_ms: 2000 };
+    /// assert_eq!(
+    ///     e.json(),
+    ///     r#"{"type":"RcLoss","last_signal_timestamp_us":61100000,"signal_lost_duration_ms":2000}"#
+    /// );
+    /// ```
+    pub fn json(&self) -> String {
+        let mut out = String::from("{\"type\":");
+        crate::json_text::push_string(&mut out, self.kind().chars());
+        for (k, v) in self.fields() {
+            out.push(',');
+            crate::json_text::push_string(&mut out, k.chars());
+            out.push(':');
+            match v {
+                EvidenceValue::Float(f) if f.is_finite() => out.push_str(&f.to_string()),
+                EvidenceValue::Int(i) => out.push_str(&i.to_string()),
+                EvidenceValue::Text(t) => crate::json_text::push_string(&mut out, t.chars()),
+                EvidenceValue::Bool(b) => out.push_str(if b { "true" } else { "false" }),
+                EvidenceValue::Float(_) | EvidenceValue::Missing => out.push_str("null"),
+            }
+        }
+        out.push('}');
+        out
+    }
+
     /// Its figures by name, in declaration order (for JSON, tables, Python).
     pub fn fields(&self) -> Vec<(&'static str, EvidenceValue)> {
         use EvidenceValue::{Bool, Float, Int, Missing, Text};
