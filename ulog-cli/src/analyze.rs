@@ -5,8 +5,8 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use serde_json::{json, Map, Value};
-use ulog_core::analysis::{analyze, AnalyzeOptions, Diagnostic, EvidenceValue, FlightAnalysis};
+use serde_json::{Map, Value};
+use ulog_core::analysis::{analyze, AnalyzeOptions, FlightAnalysis};
 use ulog_core::Source;
 
 use crate::failure::{stdout_err, Failure};
@@ -49,7 +49,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let flight = analyse(path, &name, &options)?;
         input::note_damage(&name, &flight.findings);
         if args.json {
-            let line = serde_json::to_string(&to_json(&name, &flight))
+            let line = to_json(&name, &flight)
                 .map_err(|e| Failure::about(&name, format_args!("cannot write JSON: {e}")))?;
             writeln!(out, "{line}").map_err(stdout_err)?;
         } else {
@@ -73,137 +73,14 @@ fn analyse(path: &Path, name: &str, options: &AnalyzeOptions) -> Result<FlightAn
     }
 }
 
-fn evidence_json(d: &Diagnostic) -> Value {
-    let mut m = Map::new();
-    m.insert("type".into(), json!(d.evidence.kind()));
-    for (k, v) in d.evidence.fields() {
-        let v = match v {
-            EvidenceValue::Float(f) => json!(f),
-            EvidenceValue::Int(i) => json!(i),
-            EvidenceValue::Text(t) => json!(t),
-            EvidenceValue::Bool(b) => json!(b),
-            EvidenceValue::Missing => Value::Null,
-        };
-        m.insert(k.into(), v);
-    }
-    Value::Object(m)
-}
-
-/// Keeps a float finite for JSON (which has no NaN): `null` otherwise.
-fn num(v: f64) -> Value {
-    if v.is_finite() {
-        json!(v)
-    } else {
-        Value::Null
-    }
-}
-
-fn to_json(name: &str, f: &FlightAnalysis) -> Value {
-    let diagnostics: Vec<Value> = f
-        .diagnostics
-        .iter()
-        .map(|d| {
-            json!({
-                "id": d.id,
-                "severity": d.severity.as_str(),
-                "timestamp_us": d.timestamp_us,
-                "end_timestamp_us": d.end_timestamp_us,
-                "summary": d.summary,
-                "evidence": evidence_json(d),
-            })
-        })
-        .collect();
-    let t = &f.timeline;
-    let s = &f.stats;
-    let b = &f.battery;
-    let gps = f.gps.as_ref().map(|g| {
-        json!({
-            "topic": g.topic,
-            "min_satellites": g.min_satellites,
-            "max_satellites": g.max_satellites,
-            "max_hdop": g.max_hdop,
-            "max_eph_m": g.max_eph_m,
-            "max_epv_m": g.max_epv_m,
-            "fix_types_seen": g.fix_types_seen,
-        })
-    });
-    let spectra: Vec<Value> = f
-        .spectra
-        .iter()
-        .map(|a| {
-            json!({
-                "topic": a.topic,
-                "signal": a.signal,
-                "rate_hz": num(a.rate_hz),
-                "segments": a.segments,
-                "dominant": a.dominant.iter().map(|p| json!({
-                    "frequency_hz": num(p.frequency_hz),
-                    "psd": num(p.value),
-                })).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
-    let steps: Vec<Value> = f
-        .step_responses
-        .iter()
-        .map(|a| {
-            let m = a.metrics.as_ref();
-            json!({
-                "axis": a.axis,
-                "rate_hz": num(a.rate_hz),
-                "windows": a.response.windows.len(),
-                "rise_time_s": m.and_then(|m| m.rise_time_s),
-                "overshoot_percent": m.map(|m| num(m.overshoot_percent)),
-                "settling_time_s": m.and_then(|m| m.settling_time_s),
-                "peak": m.map(|m| num(m.peak)),
-            })
-        })
-        .collect();
-    json!({
-        "file": name,
-        "diagnostics": diagnostics,
-        "flight": {
-            "start_us": f.span_us.map(|s| s.0),
-            "end_us": f.span_us.map(|s| s.1),
-            "armed_s": num(t.armed_s),
-            "airborne_s": num(t.airborne_s),
-            "takeoff_us": t.takeoff_us(),
-            "modes": t.modes.iter().map(|m| json!({
-                "mode": m.mode, "name": m.name, "start_us": m.start_us, "end_us": m.end_us,
-            })).collect::<Vec<_>>(),
-            "events": t.events.iter().map(|(time, k)| json!({
-                "timestamp_us": time, "kind": k.as_str(),
-            })).collect::<Vec<_>>(),
-        },
-        "stats": {
-            "total_distance_m": num(s.total_distance_m),
-            "max_altitude_diff_m": num(s.max_altitude_diff_m),
-            "max_altitude_above_start_m": num(s.max_altitude_above_start_m),
-            "max_speed_m_s": num(s.max_speed_m_s),
-            "max_horizontal_speed_m_s": num(s.max_horizontal_speed_m_s),
-            "max_speed_up_m_s": num(s.max_speed_up_m_s),
-            "max_speed_down_m_s": num(s.max_speed_down_m_s),
-            "avg_speed_m_s": num(s.avg_speed_m_s),
-            "max_tilt_deg": num(s.max_tilt_deg),
-            "max_rotation_speed_deg_s": num(s.max_rotation_speed_deg_s),
-        },
-        "battery": {
-            "min_voltage_v": b.min_voltage_v,
-            "avg_current_a": b.avg_current_a,
-            "max_current_a": b.max_current_a,
-            "discharged_mah": b.discharged_mah,
-        },
-        "gps": gps,
-        "vibration": {
-            "accel_vibe_mean": f.vibration.accel_vibe_mean,
-            "accel_vibe_max": f.vibration.accel_vibe_max,
-            "status": f.vibration.status,
-            "spectra": spectra,
-        },
-        "step_response": steps,
-        "notes": f.notes,
-        "damaged_stretches": f.findings.iter().filter(|x| x.is_damage()).count(),
-    })
+/// The library's JSON of the analysis ([`FlightAnalysis::json`]) with the log's name
+/// first.
+fn to_json(name: &str, f: &FlightAnalysis) -> Result<String, serde_json::Error> {
+    let analysis: Map<String, Value> = serde_json::from_str(&f.json())?;
+    let mut object = Map::new();
+    object.insert("file".into(), Value::String(name.to_owned()));
+    object.extend(analysis);
+    serde_json::to_string(&Value::Object(object))
 }
 
 fn opt(v: Option<f64>, unit: &str) -> String {

@@ -212,6 +212,36 @@ fn convert_logs(
     })
 }
 
+/// The flight analysis of a log (`ulog_core::analysis::analyze`, the code `ulog
+/// analyze` runs) as the JSON text `ulog analyze --json` prints for it (without its
+/// `file`): a path is read once in chunks, bytes from memory.
+#[pyfunction]
+#[pyo3(signature = (source, spectra=true, step_response=true))]
+fn analyze_json(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+    spectra: bool,
+    step_response: bool,
+) -> PyResult<String> {
+    let options = ulog_core::analysis::AnalyzeOptions::default()
+        .spectra(spectra)
+        .step_response(step_response);
+    let input = Input::of(source)?;
+    guarded(|| {
+        let flight = match &input {
+            Input::Bytes(b) => {
+                let bytes = b.as_bytes();
+                py.detach(|| ulog_core::analysis::analyze(bytes, &options))
+            }
+            Input::Path(path) => py.detach(|| {
+                ulog_core::analysis::analyze(ulog_core::Source::file(path), &options)
+            }),
+        }
+        .map_err(read_error)?;
+        Ok(flight.json())
+    })
+}
+
 /// The logs `input` names (`ulog_core::LogFile::find`): the file, or the `.ulg` and
 /// `.ulog` files of a directory and its subdirectories, sorted; `[(path, size)]`.
 #[pyfunction]
@@ -323,6 +353,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(unit_of, m)?)?;
     m.add_function(wrap_pyfunction!(find_logs, m)?)?;
     m.add_function(wrap_pyfunction!(convert_logs, m)?)?;
+    m.add_function(wrap_pyfunction!(analyze_json, m)?)?;
     m.add_function(wrap_pyfunction!(align, m)?)?;
     m.add_function(wrap_pyfunction!(arrow_batches, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;

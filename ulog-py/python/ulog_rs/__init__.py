@@ -17,10 +17,11 @@ keeps more of its rows (the reader resynchronises where pyulog skips), and
 
 from ._core import InternalError, ULogError
 from ._core import __version__
+from .analysis import analyze
 from .convert import Converted, convert
 from .ulog import Aligned, Event, Finding, TopicNotFound, ULog, UtcClock
 
 __all__ = [
     "ULog", "ULogError", "TopicNotFound", "InternalError", "Finding", "Event", "UtcClock",
-    "convert", "Converted", "Aligned", "__version__",
+    "convert", "Converted", "Aligned", "analyze", "__version__",
 ]

@@ -16,6 +16,7 @@ mod brownout;
 mod diagnostic;
 mod ekf;
 mod gps;
+mod json;
 mod modes;
 mod motors;
 mod rc_loss;
