@@ -233,9 +233,9 @@ fn analyze_json(
                 let bytes = b.as_bytes();
                 py.detach(|| ulog_core::analysis::analyze(bytes, &options))
             }
-            Input::Path(path) => py.detach(|| {
-                ulog_core::analysis::analyze(ulog_core::Source::file(path), &options)
-            }),
+            Input::Path(path) => {
+                py.detach(|| ulog_core::analysis::analyze(ulog_core::Source::file(path), &options))
+            }
         }
         .map_err(read_error)?;
         Ok(flight.json())
