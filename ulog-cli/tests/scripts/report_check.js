@@ -45,45 +45,35 @@ async function main() {
     out.plots = await page.evaluate(async () => {
       const api = window.ulogReport;
       const frame = () => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+      const count = (plots) => {
+        const res = {};
+        for (const [id, u] of Object.entries(plots)) {
+          const c = u.ctx.canvas;
+          const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
+          let line = 0;
+          for (let i = 0; i < px.length; i += 4) {
+            if (px[i + 3] < 64) continue;
+            const hi = Math.max(px[i], px[i + 1], px[i + 2]);
+            const lo = Math.min(px[i], px[i + 1], px[i + 2]);
+            if (hi - lo >= 24) line += 1;
+          }
+          res[id] = { linePixels: line, series: u.series.length - 1 };
+        }
+        return res;
+      };
       api.plain = true;
       Object.values(api.plots).forEach((u) => u.redraw(false, false));
       await frame();
-      const res = {};
-      for (const [id, u] of Object.entries(api.plots)) {
-        const c = u.ctx.canvas;
-        const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
-        let line = 0;
-        for (let i = 0; i < px.length; i += 4) {
-          if (px[i + 3] < 64) continue;
-          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
-          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
-          if (hi - lo >= 24) line += 1;
-        }
-        res[id] = { linePixels: line, series: u.series.length - 1 };
-      }
+      // The spectra and step responses (no bands or marks) counted alike.
+      const res = { time: count(api.plots), analysis: count(api.analysis || {}) };
       api.plain = false;
       Object.values(api.plots).forEach((u) => u.redraw(false, false));
       await frame();
       return res;
     });
-    // The spectra and step responses (line pixels, as above) and the spectrograms
-    // (coloured cells, their columns and bins).
-    out.analysis = await page.evaluate(() => {
-      const res = {};
-      for (const [id, u] of Object.entries(window.ulogReport.analysis || {})) {
-        const c = u.ctx.canvas;
-        const px = u.ctx.getImageData(0, 0, c.width, c.height).data;
-        let line = 0;
-        for (let i = 0; i < px.length; i += 4) {
-          if (px[i + 3] < 64) continue;
-          const hi = Math.max(px[i], px[i + 1], px[i + 2]);
-          const lo = Math.min(px[i], px[i + 1], px[i + 2]);
-          if (hi - lo >= 24) line += 1;
-        }
-        res[id] = { linePixels: line, series: u.series.length - 1 };
-      }
-      return res;
-    });
+    out.analysis = out.plots.analysis;
+    out.plots = out.plots.time;
+    // The spectrograms: coloured cells, their columns and bins.
     out.heatmaps = await page.evaluate(() => {
       const res = {};
       for (const [id, m] of Object.entries(window.ulogReport.heatmaps || {})) {
