@@ -22,17 +22,19 @@ mod diff;
 /// (9 float, 6 integer). Values print as Python prints them: `float` parameters as the
 /// double they widen to (`0.10000000149011612`).
 ///
-/// `--diff B.ulg` prints the parameters that differ between FILE (A) and B, and
-/// `--diff-defaults[=system|current_setup]` those of FILE that differ from the log's
+/// `--diff B.ulg` prints the parameters that differ between FILE (A) and B, and across
+/// more logs with `--diff` repeated (`--diff B.ulg --diff C.ulg`: a parameter some log
+/// lacks, or whose values are not all the same); `--diff-defaults[=system|current_setup]` those of FILE that differ from the log's
 /// default values of that kind (system if not named; a parameter the log gives no
 /// default for is taken to be at its default): each parameter's value at the end of
 /// the log (the initial value with the changes applied; `--initial`: the initial
-/// value), sorted by name, as an aligned table (`-` where a side does not have the
-/// parameter; a note where the two values have different types, as an int32 1 and a
-/// float 1.0, which differ), `--format csv` (`name,A,B` under a header of the files'
-/// names without extension; an empty field where a side does not have it) or
-/// `--format json` (an array of `{"name", "a", "b"}`: numbers as JSON numbers, a
-/// `float` as the double it widens to, null where a side does not have it, NaN and
+/// value), sorted by name, as an aligned table (a column per log; `-` where a log does
+/// not have the parameter; a note where the values have different types, as an int32
+/// 1 and a float 1.0, which differ), `--format csv` (`name,A,B,…` under a header of the
+/// files' names without extension; an empty field where a log does not have it) or
+/// `--format json` (an array of `{"name", "a", "b", …}`, a key per log in the order
+/// given: numbers as JSON numbers, a `float` as the double it widens to, null where a
+/// log does not have it, NaN and
 /// infinities as the strings `nan`, `inf`, `-inf`). The exit status is 0 whether or not
 /// parameters differ (there is no `--exit-code`; an empty table or `[]` says none do).
 #[derive(Debug, clap::Args)]
@@ -62,13 +64,14 @@ pub struct Args {
     /// `--initial`).
     #[arg(short = 'd', long, value_name = "KIND")]
     default: Option<DefaultKind>,
-    /// The parameters that differ between FILE and this second log.
+    /// The parameters that differ across FILE and this log (repeat for more logs:
+    /// `--diff B.ulg --diff C.ulg`).
     #[arg(
         long,
         value_name = "B.ulg",
         conflicts_with_all = ["default", "timestamps", "utc", "diff_defaults"]
     )]
-    diff: Option<PathBuf>,
+    diff: Vec<PathBuf>,
     /// The parameters that differ from the log's defaults of this kind (system if not
     /// named; `--diff-defaults=current_setup`, so that a file after the option is not
     /// taken for a kind).
@@ -127,7 +130,7 @@ enum OutputFormat {
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let diffing = args.diff.is_some() || args.diff_defaults.is_some();
+    let diffing = !args.diff.is_empty() || args.diff_defaults.is_some();
     let format = match (args.format, diffing) {
         (Some(f @ (OutputFormat::Octave | OutputFormat::Qgc)), true) => {
             diff::usage_error(&format!(

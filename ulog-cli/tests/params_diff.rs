@@ -1,5 +1,5 @@
-//! `ulog params --diff B.ulg` and `--diff-defaults [KIND]`: on pairs of corpus logs and
-//! on the corpus logs with default parameters, the `--format json` output equals the
+//! `ulog params --diff B.ulg` and `--diff-defaults [KIND]`: on pairs and triples of
+//! corpus logs and on the corpus logs with default parameters, the `--format json` output equals the
 //! diff computed with pyulog (its `initial_parameters` with `changed_parameters`
 //! applied in order; `get_default_parameters(0)`/`(1)`); on logs built here, every
 //! kind of difference in each format, and the errors' exit statuses.
@@ -39,17 +39,28 @@ def js(v):
     return v
 
 def diff(a, b, names):
+    return diff_all([a, b], names)
+
+def diff_all(sets, names):
     out = []
     for n in sorted(names):
-        x, y = a.get(n), b.get(n)
-        if x is not None and y is not None and same(x, y):
+        values = [s.get(n) for s in sets]
+        first = values[0]
+        if first is not None and all(v is not None and same(first, v) for v in values[1:]):
             continue
-        out.append({'name': n, 'a': js(x), 'b': js(y)})
+        row = {'name': n}
+        for i, v in enumerate(values):
+            row['abcdefghijklmnopqrstuvwxyz'[i]] = js(v)
+        out.append(row)
     return out
 
 files = sys.argv[1:]
 logs = {f: ULog(f, []) for f in files}
-result = {'diff': {}, 'initial': {}, 'defaults': {}}
+result = {'diff': {}, 'initial': {}, 'defaults': {}, 'triples': {}}
+for i in range(len(files) - 2):
+    trio = files[i:i + 3]
+    ends = [at_end(logs[f]) for f in trio]
+    result['triples']['|'.join(trio)] = diff_all(ends, set().union(*ends))
 for i, fa in enumerate(files):
     for fb in files[i + 1:]:
         a, b = logs[fa], logs[fb]
@@ -89,14 +100,20 @@ fn assert_same_diff(what: &str, ours: &Json, theirs: &Json) {
     };
     assert_eq!(names(o), names(t), "{what}: the names that differ");
     for (x, y) in o.iter().zip(t) {
-        assert_eq!(x.as_object().unwrap().len(), 3, "{what}: {x}");
-        for side in ["a", "b"] {
+        let sides: Vec<&String> = y
+            .as_object()
+            .unwrap()
+            .keys()
+            .filter(|k| *k != "name")
+            .collect();
+        assert_eq!(x.as_object().unwrap().len(), sides.len() + 1, "{what}: {x}");
+        for side in sides {
             assert!(
-                same_value(&x[side], &y[side]),
+                same_value(&x[side.as_str()], &y[side.as_str()]),
                 "{what}: {} {side}: ours {} pyulog {}",
                 x["name"],
-                x[side],
-                y[side]
+                x[side.as_str()],
+                y[side.as_str()]
             );
         }
     }
@@ -170,6 +187,33 @@ fn diffs_equal_pyulogs_on_pairs_of_corpus_logs_and_defaults() {
     }
     assert!(pairs >= 100, "{pairs} pairs compared");
     assert!(differing >= 100, "{differing} pairs differ");
+
+    // N-way: every three consecutive logs, `--diff B --diff C`.
+    let mut triples = 0;
+    for trio in logs.windows(3) {
+        let k = trio
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join("|");
+        let ours = json_of(&[
+            "params".as_ref(),
+            trio[0].as_os_str(),
+            "--diff".as_ref(),
+            trio[1].as_os_str(),
+            "--diff".as_ref(),
+            trio[2].as_os_str(),
+            "-f".as_ref(),
+            "json".as_ref(),
+        ]);
+        assert_same_diff(
+            &format!("{k} (three logs)"),
+            &ours,
+            &expected["triples"][&k],
+        );
+        triples += 1;
+    }
+    assert!(triples >= 15, "{triples} triples compared");
 
     let mut with_defaults = 0;
     for log in &logs {
@@ -488,4 +532,64 @@ fn errors_have_the_statuses_of_their_kind() {
         assert_eq!(code, Some(2), "{args:?}: {err}");
         assert!(err.starts_with("error: "), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn three_flights_give_a_column_each_in_every_format() {
+    let dir = common::scratch("params_diff_three");
+    let (a, b) = two_flights(&dir);
+    let c = dir.join("c.ulg");
+    std::fs::copy(&a, &c).unwrap();
+    let run = |format: &str| {
+        common::ulog_ok([
+            "params".as_ref(),
+            a.as_os_str(),
+            "--diff".as_ref(),
+            b.as_os_str(),
+            "--diff".as_ref(),
+            c.as_os_str(),
+            "-f".as_ref(),
+            std::ffi::OsStr::new(format),
+        ])
+    };
+    // C is A: what differs is what differs between A and B, with A's values twice.
+    let two = common::ulog_ok([
+        "params".as_ref(),
+        a.as_os_str(),
+        "--diff".as_ref(),
+        b.as_os_str(),
+        "-f".as_ref(),
+        "csv".as_ref(),
+    ]);
+    let csv = run("csv");
+    let (head2, head3) = (two.lines().next().unwrap(), csv.lines().next().unwrap());
+    assert_eq!(head3, format!("{head2},c"), "a column per log");
+    for (row2, row3) in two.lines().zip(csv.lines()).skip(1) {
+        let a_value = row2.split(',').nth(1).unwrap();
+        assert_eq!(row3, format!("{row2},{a_value}"), "C's value is A's");
+    }
+    assert_eq!(two.lines().count(), csv.lines().count());
+    let text = run("text");
+    let header: Vec<&str> = text.lines().next().unwrap().split_whitespace().collect();
+    assert_eq!(header, ["name", "first", "second", "c"]);
+    assert!(
+        text.contains("(types differ: int32_t, float, int32_t)"),
+        "{text}"
+    );
+    let json: Json = serde_json::from_str(&run("json")).unwrap();
+    for row in json.as_array().unwrap() {
+        assert_eq!(row["a"], row["c"], "{row}");
+    }
+    // The same log twice differs in nothing.
+    let same = common::ulog_ok([
+        "params".as_ref(),
+        a.as_os_str(),
+        "--diff".as_ref(),
+        c.as_os_str(),
+        "--diff".as_ref(),
+        a.as_os_str(),
+        "-f".as_ref(),
+        "json".as_ref(),
+    ]);
+    assert_eq!(same, "[]\n");
 }

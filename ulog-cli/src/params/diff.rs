@@ -1,11 +1,13 @@
-//! `ulog params --diff B.ulg` and `--diff-defaults [KIND]`: the parameters that differ
-//! between two logs, or from a log's defaults, as a table, csv or JSON. The comparing
+//! `ulog params --diff B.ulg [C.ulg …]` and `--diff-defaults [KIND]`: the parameters
+//! that differ across two or more logs, or from a log's defaults, as a table, csv or
+//! JSON. The comparing
 //! is the library's (`ulog_core::read::diff_params` and `diff_from_defaults`, over
 //! `ULog::params_at_end`, or `params_at_start` with `--initial`); this prints.
 
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
 
 use serde_json::Value as Json;
 use ulog_core::read::{self, ParamDiff};
@@ -31,36 +33,41 @@ pub(super) fn usage_error(message: &str) -> ! {
 pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
     let name_a = args.file.display().to_string();
     // The parameters are metadata: one pass over each log in chunks.
-    let kept_a = input::keep(&args.file, &[])?;
-    let log_a = kept_a.log(&name_a)?;
-    let kept_b = match &args.diff {
-        Some(path_b) => Some((path_b, input::keep(path_b, &[])?)),
-        None => None,
-    };
-    let log_b = match &kept_b {
-        Some((path_b, kept)) => Some((path_b, kept.log(&path_b.display().to_string())?)),
-        None => None,
-    };
+    let files: Vec<&PathBuf> = std::iter::once(&args.file).chain(&args.diff).collect();
+    let kept = files
+        .iter()
+        .map(|p| input::keep(p, &[]))
+        .collect::<Result<Vec<_>, _>>()?;
+    let logs = kept
+        .iter()
+        .zip(&files)
+        .map(|(k, p)| k.log(&p.display().to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
     fn values<'a>(log: &ULog<'a>, initial: bool) -> BTreeMap<String, Value<'a>> {
         match initial {
             true => log.params_at_start(),
             false => log.params_at_end(),
         }
     }
-    let (diffs, columns) = match (&log_b, args.diff_defaults) {
-        (Some((path_b, log_b)), _) => {
-            let (a, b) = (input::stem(&args.file), input::stem(path_b));
-            let columns = match a == b {
-                // Two logs of the same name in different folders: their paths.
-                true => [name_a.clone(), path_b.display().to_string()],
-                false => [a, b],
+    let log_a = &logs[0];
+    let (diffs, columns) = match args.diff_defaults {
+        None => {
+            let stems: Vec<String> = files.iter().map(|p| input::stem(p)).collect();
+            let unique = stems
+                .iter()
+                .enumerate()
+                .all(|(i, s)| !stems[..i].contains(s));
+            let columns = match unique {
+                true => stems,
+                // Logs of the same name in different folders: their paths.
+                false => files.iter().map(|p| p.display().to_string()).collect(),
             };
-            (
-                read::diff_params(&values(&log_a, args.initial), &values(log_b, args.initial)),
-                columns,
-            )
+            let sets: Vec<BTreeMap<String, Value<'_>>> =
+                logs.iter().map(|l| values(l, args.initial)).collect();
+            let sets: Vec<&BTreeMap<String, Value<'_>>> = sets.iter().collect();
+            (read::diff_params(&sets), columns)
         }
-        (None, Some(kind)) => {
+        Some(kind) => {
             if !log_a
                 .flag_bits()
                 .is_some_and(|f| f.has_default_parameters())
@@ -74,13 +81,12 @@ pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
                 }
             };
             let diffs = read::diff_from_defaults(
-                &values(&log_a, args.initial),
+                &values(log_a, args.initial),
                 &log_a.param_defaults(),
                 kind,
             );
-            (diffs, [input::stem(&args.file), title.to_owned()])
+            (diffs, vec![input::stem(&args.file), title.to_owned()])
         }
-        (None, None) => unreachable!("run is called for --diff or --diff-defaults"),
     };
     let text = match format {
         OutputFormat::Csv => csv(&diffs, &columns, &args.delimiter),
@@ -105,35 +111,36 @@ fn text_of(v: Option<&Value<'_>>, missing: &str) -> String {
     v.map_or_else(|| missing.to_owned(), py_str)
 }
 
-/// The aligned table: a header of the two columns' names, then `name  A  B` per
-/// parameter (`-` where a side does not have it), and a note where the types differ.
-fn table(diffs: &[ParamDiff<'_>], columns: &[String; 2]) -> String {
-    let mut rows: Vec<[String; 4]> = vec![[
-        "name".to_owned(),
-        columns[0].clone(),
-        columns[1].clone(),
-        String::new(),
-    ]];
+/// The aligned table: a header of the columns' names, then `name  A  B …` per
+/// parameter (`-` where a log does not have it), and a note where the types differ.
+fn table(diffs: &[ParamDiff<'_>], columns: &[String]) -> String {
+    let mut header = vec!["name".to_owned()];
+    header.extend(columns.iter().cloned());
+    header.push(String::new());
+    let mut rows: Vec<Vec<String>> = vec![header];
     for d in diffs {
         let note = match d.type_change() {
-            Some((a, b)) => format!("(types differ: {a}, {b})"),
+            Some(types) => {
+                let types: Vec<&str> = types.iter().map(|t| t.unwrap_or("-")).collect();
+                format!("(types differ: {})", types.join(", "))
+            }
             None => String::new(),
         };
-        rows.push([
-            d.name.clone(),
-            text_of(d.a.as_ref(), "-"),
-            text_of(d.b.as_ref(), "-"),
-            note,
-        ]);
+        let mut row = vec![d.name.clone()];
+        row.extend(d.values.iter().map(|v| text_of(v.as_ref(), "-")));
+        row.push(note);
+        rows.push(row);
     }
-    let width = |i: usize| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0);
-    let widths = [width(0), width(1), width(2)];
+    let cells = columns.len() + 2;
+    let widths: Vec<usize> = (0..cells)
+        .map(|i| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0))
+        .collect();
     let mut s = String::new();
     for r in &rows {
         let mut line = String::new();
         for (i, cell) in r.iter().enumerate() {
             line.push_str(cell);
-            if i < 3 {
+            if i + 1 < cells {
                 let pad = widths[i] - cell.chars().count() + 2;
                 line.extend(std::iter::repeat(' ').take(pad));
             }
@@ -153,22 +160,22 @@ fn csv_field(s: &str, delimiter: &str) -> String {
     }
 }
 
-/// `name,A,B` under a header of the columns' names; an empty field where a side does
+/// `name,A,B,…` under a header of the columns' names; an empty field where a log does
 /// not have the parameter.
-fn csv(diffs: &[ParamDiff<'_>], columns: &[String; 2], delimiter: &str) -> String {
+fn csv(diffs: &[ParamDiff<'_>], columns: &[String], delimiter: &str) -> String {
     let mut s = String::new();
-    let mut line = |cells: [&str; 3]| {
+    let mut line = |cells: Vec<String>| {
         let cells: Vec<String> = cells.iter().map(|c| csv_field(c, delimiter)).collect();
         s.push_str(&cells.join(delimiter));
         s.push('\n');
     };
-    line(["name", &columns[0], &columns[1]]);
+    let mut header = vec!["name".to_owned()];
+    header.extend(columns.iter().cloned());
+    line(header);
     for d in diffs {
-        line([
-            &d.name,
-            &text_of(d.a.as_ref(), ""),
-            &text_of(d.b.as_ref(), ""),
-        ]);
+        let mut row = vec![d.name.clone()];
+        row.extend(d.values.iter().map(|v| text_of(v.as_ref(), "")));
+        line(row);
     }
     s
 }
@@ -188,7 +195,16 @@ fn param_json(v: Option<&Value<'_>>) -> Json {
     }
 }
 
-/// An array of `{"name", "a", "b"}`, one object per line.
+/// The JSON key of the `i`-th log: `a`, `b`, … `z`, then `log27`, `log28`, ….
+fn column_key(i: usize) -> String {
+    match u8::try_from(i).ok().filter(|i| *i < 26) {
+        Some(i) => char::from(b'a' + i).to_string(),
+        None => format!("log{}", i + 1),
+    }
+}
+
+/// An array of `{"name", "a", "b", …}` (a key per log, in the order given), one object
+/// per line.
 fn json(diffs: &[ParamDiff<'_>]) -> String {
     if diffs.is_empty() {
         return "[]\n".to_owned();
@@ -197,8 +213,9 @@ fn json(diffs: &[ParamDiff<'_>]) -> String {
     for (i, d) in diffs.iter().enumerate() {
         let mut o = serde_json::Map::new();
         o.insert("name".to_owned(), Json::String(d.name.clone()));
-        o.insert("a".to_owned(), param_json(d.a.as_ref()));
-        o.insert("b".to_owned(), param_json(d.b.as_ref()));
+        for (k, v) in d.values.iter().enumerate() {
+            o.insert(column_key(k), param_json(v.as_ref()));
+        }
         s.push_str("  ");
         s.push_str(&Json::Object(o).to_string());
         s.push_str(if i + 1 < diffs.len() { ",\n" } else { "\n" });

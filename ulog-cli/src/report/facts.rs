@@ -248,7 +248,7 @@ pub fn params_vs_defaults(log: &ULog<'_>) -> Vec<[String; 3]> {
     let text = |v: &Option<Value<'_>>| v.as_ref().map_or_else(|| "—".into(), py_str);
     log.diff_param_defaults(DefaultKind::System)
         .iter()
-        .map(|d| [d.name.clone(), text(&d.a), text(&d.b)])
+        .map(|d| [d.name.clone(), text(&d.values[0]), text(&d.values[1])])
         .collect()
 }
 

@@ -1,5 +1,5 @@
 //! The parameters of a log as values by name (at its start, at its end, its defaults),
-//! and the differences between two such sets: between two flights, or between a
+//! and the differences across such sets: between two or more flights, or between a
 //! flight and its defaults.
 //!
 //! "The parameters of a flight" are the values at the end of its log
@@ -10,7 +10,7 @@
 //!
 //! Values compare as numbers of the log's types ([`same_param_value`]): equal when they
 //! have the same type and the same value. A parameter that is an `int32_t` 1 in one log
-//! and a `float` 1.0 in the other differs ([`ParamDiff::type_change`] names the two
+//! and a `float` 1.0 in the other differs ([`ParamDiff::type_change`] names the
 //! types), although Python would call `1 == 1.0` true. Floats compare by value
 //! (`0.0` equals `-0.0`), and a NaN equals a NaN, so that an unchanged NaN is not a
 //! difference.
@@ -61,24 +61,30 @@ impl<'a> ParamDefaults<'a> {
     }
 }
 
-/// A parameter whose value differs between two sets, A and B (two logs, or a log and
-/// its defaults): missing from one side, or different there ([`same_param_value`]).
+/// A parameter whose value differs between sets of parameters (two or more logs, or a
+/// log and its defaults): missing from one of them, or different there
+/// ([`same_param_value`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamDiff<'a> {
     /// The parameter's name.
     pub name: String,
-    /// Its value in A; `None`: only B has it.
-    pub a: Option<Value<'a>>,
-    /// Its value in B; `None`: only A has it.
-    pub b: Option<Value<'a>>,
+    /// Its value in each set, in the order given; `None` where a set lacks it.
+    pub values: Vec<Option<Value<'a>>>,
 }
 
 impl ParamDiff<'_> {
-    /// The C type names of A's and B's values (`("int32_t", "float")`) when both sides
-    /// have the parameter with values of different types, else `None`.
-    pub fn type_change(&self) -> Option<(&'static str, &'static str)> {
-        let (a, b) = (type_name(self.a.as_ref()?), type_name(self.b.as_ref()?));
-        (a != b).then_some((a, b))
+    /// The C type names of the values (`"int32_t"`, `"float"`; `None` where a set
+    /// lacks the parameter) when the sets that have it hold values of different
+    /// types, else `None`.
+    pub fn type_change(&self) -> Option<Vec<Option<&'static str>>> {
+        let types: Vec<Option<&'static str>> = self
+            .values
+            .iter()
+            .map(|v| v.as_ref().map(type_name))
+            .collect();
+        let mut present = types.iter().flatten();
+        let first = present.next()?;
+        present.any(|t| t != first).then_some(types)
     }
 }
 
@@ -114,35 +120,35 @@ pub fn same_param_value(a: &Value<'_>, b: &Value<'_>) -> bool {
     }
 }
 
-/// The parameters that differ between `a` and `b`, sorted by name: those only one of
-/// them has, and those whose values differ ([`same_param_value`]).
-pub fn diff_params<'a>(
-    a: &BTreeMap<String, Value<'a>>,
-    b: &BTreeMap<String, Value<'a>>,
-) -> Vec<ParamDiff<'a>> {
-    let mut names: Vec<&String> = a.keys().chain(b.keys()).collect();
+/// The parameters that differ across `sets` (two logs, or N), sorted by name: those
+/// some set lacks, and those whose values are not all the same ([`same_param_value`]).
+pub fn diff_params<'a>(sets: &[&BTreeMap<String, Value<'a>>]) -> Vec<ParamDiff<'a>> {
+    let mut names: Vec<&String> = sets.iter().flat_map(|s| s.keys()).collect();
     names.sort_unstable();
     names.dedup();
     names
         .into_iter()
         .filter_map(|name| {
-            let (va, vb) = (a.get(name).copied(), b.get(name).copied());
-            let same = match (&va, &vb) {
-                (Some(x), Some(y)) => same_param_value(x, y),
+            let values: Vec<Option<Value<'a>>> =
+                sets.iter().map(|s| s.get(name).copied()).collect();
+            let same = match values.split_first() {
+                Some((Some(first), rest)) => rest
+                    .iter()
+                    .all(|v| v.as_ref().is_some_and(|v| same_param_value(first, v))),
                 _ => false,
             };
             (!same).then(|| ParamDiff {
                 name: name.clone(),
-                a: va,
-                b: vb,
+                values,
             })
         })
         .collect()
 }
 
 /// The parameters of `values` that differ from their default of `kind` in
-/// `defaults`, sorted by name: A is the value (`None` when `values` does not have a
-/// parameter the defaults name), B the default. A parameter without a default of
+/// `defaults`, sorted by name: the first of [`ParamDiff::values`] is the value
+/// (`None` when `values` does not have a parameter the defaults name), the second the
+/// default. A parameter without a default of
 /// `kind` is left out: a log gives defaults mostly for the parameters that differ from
 /// them, so one without is taken to be at its default.
 pub fn diff_from_defaults<'a>(
@@ -159,8 +165,7 @@ pub fn diff_from_defaults<'a>(
                 Some(v) if same_param_value(v, &default) => None,
                 _ => Some(ParamDiff {
                     name: name.clone(),
-                    a: value,
-                    b: Some(default),
+                    values: vec![value, Some(default)],
                 }),
             }
         })
@@ -237,19 +242,18 @@ impl<'a> ULog<'a> {
     /// let diff = a.diff_params(&b);
     /// let names: Vec<&str> = diff.iter().map(|d| d.name.as_str()).collect();
     /// assert_eq!(names, ["MPC_XY_VEL_MAX", "SDLOG_MODE", "SYS_AUTOSTART"]);
-    /// assert_eq!(diff[0].a, Some(Value::F32(12.0)));
-    /// assert_eq!(diff[0].b, Some(Value::F32(10.0)));
+    /// assert_eq!(diff[0].values, [Some(Value::F32(12.0)), Some(Value::F32(10.0))]);
     /// // An int32_t 0 and a float 0.0 differ: their types do.
-    /// assert_eq!(diff[1].type_change(), Some(("int32_t", "float")));
+    /// assert_eq!(diff[1].type_change(), Some(vec![Some("int32_t"), Some("float")]));
     /// // Only B has SYS_AUTOSTART.
-    /// assert_eq!((diff[2].a, diff[2].b), (None, Some(Value::I32(4001))));
+    /// assert_eq!(diff[2].values, [None, Some(Value::I32(4001))]);
     /// # Ok::<(), ulog_core::ReadError>(())
     /// ```
     pub fn diff_params<'b>(&self, other: &ULog<'b>) -> Vec<ParamDiff<'b>>
     where
         'a: 'b,
     {
-        diff_params(&self.params_at_end(), &other.params_at_end())
+        diff_params(&[&self.params_at_end(), &other.params_at_end()])
     }
 
     /// The parameters whose value at the end of the log ([`ULog::params_at_end`])
@@ -274,7 +278,7 @@ impl<'a> ULog<'a> {
     /// let system = log.diff_param_defaults(DefaultKind::System);
     /// assert_eq!(system.len(), 2);
     /// assert_eq!(system[0].name, "MAV_TYPE");
-    /// assert_eq!((system[0].a, system[0].b), (Some(Value::I32(13)), Some(Value::I32(2))));
+    /// assert_eq!(system[0].values, [Some(Value::I32(13)), Some(Value::I32(2))]);
     /// // The airframe's default of MAV_TYPE is its value; MPC_XY_VEL_MAX has none.
     /// assert!(log.diff_param_defaults(DefaultKind::CurrentSetup).is_empty());
     /// # Ok::<(), ulog_core::ReadError>(())
@@ -354,15 +358,38 @@ mod tests {
             ("DIFF", Value::F32(2.0)),
             ("TYPE", Value::F32(1.0)),
         ]);
-        let d = diff_params(&a, &b);
+        let d = diff_params(&[&a, &b]);
         let names: Vec<&str> = d.iter().map(|d| d.name.as_str()).collect();
         assert_eq!(names, ["DIFF", "ONLY_A", "ONLY_B", "TYPE"]);
-        assert_eq!(d[1].b, None);
-        assert_eq!(d[2].a, None);
+        assert_eq!(d[1].values[1], None);
+        assert_eq!(d[2].values[0], None);
         assert_eq!(d[0].type_change(), None);
         assert_eq!(d[1].type_change(), None);
-        assert_eq!(d[3].type_change(), Some(("int32_t", "float")));
-        assert!(diff_params(&a, &a).is_empty());
+        assert_eq!(
+            d[3].type_change(),
+            Some(vec![Some("int32_t"), Some("float")])
+        );
+        assert!(diff_params(&[&a, &a]).is_empty());
+        // Three sets: a parameter differs when any of them does, or lacks it.
+        let c = map(&[("SAME", Value::F32(2.5)), ("DIFF", Value::F32(1.0))]);
+        let names = |sets: &[&BTreeMap<String, Value<'_>>]| -> Vec<String> {
+            diff_params(sets).into_iter().map(|d| d.name).collect()
+        };
+        assert_eq!(names(&[&a, &a, &c]), ["ONLY_A", "TYPE"]);
+        assert_eq!(names(&[&c, &c, &c]), Vec::<String>::new());
+        let d = diff_params(&[&a, &b, &c]);
+        assert_eq!(
+            d[0].values,
+            [
+                Some(Value::F32(1.0)),
+                Some(Value::F32(2.0)),
+                Some(Value::F32(1.0))
+            ]
+        );
+        assert_eq!(
+            d[3].type_change(),
+            Some(vec![Some("int32_t"), Some("float"), None])
+        );
     }
 
     #[test]
