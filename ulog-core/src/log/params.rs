@@ -423,7 +423,7 @@ mod tests {
         assert_eq!(d["GONE"].system, None);
         let cs = log.diff_param_defaults(DefaultKind::CurrentSetup);
         assert_eq!(cs.len(), 2);
-        assert_eq!((cs[1].a, cs[1].b), (None, Some(Value::I32(5))));
+        assert_eq!(cs[1].values, [None, Some(Value::I32(5))]);
         assert_eq!(log.diff_param_defaults(DefaultKind::System).len(), 1);
     }
 }
