@@ -234,6 +234,20 @@ pub fn note_damage(name: &str, findings: &[ulog_core::Finding]) {
     }
 }
 
+/// How a column names each of several logs: its [`stem`], or, where two logs share a
+/// stem (logs of one name in different folders), every log's path.
+pub fn column_names(files: &[&Path]) -> Vec<String> {
+    let stems: Vec<String> = files.iter().map(|p| stem(p)).collect();
+    let unique = stems
+        .iter()
+        .enumerate()
+        .all(|(i, s)| !stems[..i].contains(s));
+    match unique {
+        true => stems,
+        false => files.iter().map(|p| p.display().to_string()).collect(),
+    }
+}
+
 /// The name of the log at `path` without its folder and its `.ulg`/`.ulog`
 /// extension (any case); the whole file name when it has neither.
 pub fn stem(path: &Path) -> String {

@@ -709,3 +709,157 @@ fn a_brownout_is_listed_marked_and_counted_in_the_header() {
         assert_eq!(rows[0][3], "battery_brownout");
     }
 }
+
+/// The report of several logs compared, in the scratch folder of `test`.
+fn compare_report(test: &str, stems: &[&str]) -> (PathBuf, String) {
+    let dir = common::scratch(&format!("report-{test}"));
+    let out = dir.join("compare.html");
+    let mut args: Vec<std::ffi::OsString> = vec!["report".into()];
+    args.extend(stems.iter().map(|s| log_path(s).into_os_string()));
+    args.extend(["-o".into(), out.clone().into_os_string()]);
+    let said = common::ulog_ok(&args);
+    assert!(said.starts_with("Wrote "), "{said}");
+    let text = std::fs::read_to_string(&out).expect("the page");
+    (out, text)
+}
+
+/// Each log's lines on the compared page are its own page's, moved to time since its
+/// takeoff (as `ulog analyze` says it) and coloured one colour per log; the plots of
+/// every log are there; the parameters that differ are `ulog params --diff`'s.
+fn assert_compared(test: &str, stems: &[&str]) -> (PathBuf, String) {
+    let (page, html) = compare_report(test, stems);
+    assert_self_contained(test, &html);
+    let data = page_data(&html);
+    assert_eq!(
+        data["modes"],
+        serde_json::json!([]),
+        "no flight modes when comparing"
+    );
+    let compared: Vec<&Json> = data["plots"].as_array().unwrap().iter().collect();
+    let mut colors = Vec::new();
+    for (i, stem) in stems.iter().enumerate() {
+        let (_, own) = report(test, stem);
+        let own = page_data(&own);
+        let analysis: Json = serde_json::from_str(
+            common::ulog_ok([
+                OsStr::new("analyze"),
+                OsStr::new("--json"),
+                log_path(stem).as_os_str(),
+            ])
+            .trim(),
+        )
+        .unwrap();
+        let origin = own["origin_us"].as_f64().unwrap();
+        let end = origin + own["duration"].as_f64().unwrap() * 1e6;
+        let offset = match analysis["flight"]["takeoff_us"].as_f64() {
+            Some(t) if (origin..=end).contains(&t) => (t - origin) / 1e6,
+            _ => 0.0,
+        };
+        let prefix = format!("{stem}: ");
+        for p in own["plots"].as_array().unwrap() {
+            let id = &p["id"];
+            let other = compared
+                .iter()
+                .find(|c| c["id"] == *id)
+                .unwrap_or_else(|| panic!("{stem}: plot {id} on the compared page"));
+            for t in p["tables"].as_array().unwrap() {
+                let labels: Vec<String> = t["labels"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|l| format!("{prefix}{}", l.as_str().unwrap()))
+                    .collect();
+                let c = other["tables"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|c| {
+                        c["labels"]
+                            .as_array()
+                            .unwrap()
+                            .iter()
+                            .map(|l| l.as_str().unwrap())
+                            .eq(labels.iter().map(String::as_str))
+                    })
+                    .unwrap_or_else(|| panic!("{stem}: {id}: lines {labels:?}"));
+                assert_eq!(c["y"], t["y"], "{stem}: {id}: the same values");
+                let (xs, xc) = (t["x"].as_array().unwrap(), c["x"].as_array().unwrap());
+                assert_eq!(xs.len(), xc.len());
+                for (a, b) in xs.iter().zip(xc) {
+                    let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+                    assert!(
+                        (a - offset - b).abs() < 1e-9,
+                        "{stem}: {id}: {a} − {offset} ≠ {b}"
+                    );
+                }
+                colors.push((i, c["color"].as_str().unwrap().to_owned()));
+            }
+        }
+    }
+    // One colour per log, a different one for each.
+    colors.sort();
+    colors.dedup();
+    assert_eq!(colors.len(), stems.len(), "{colors:?}");
+    // The parameters that differ: those `ulog params --diff` lists across the logs.
+    let mut args: Vec<std::ffi::OsString> = vec!["params".into(), log_path(stems[0]).into()];
+    for s in &stems[1..] {
+        args.extend(["--diff".into(), log_path(s).into_os_string()]);
+    }
+    args.extend(["-f".into(), "json".into()]);
+    let diff: Json = serde_json::from_str(&common::ulog_ok(&args)).unwrap();
+    let names: Vec<&str> = diff
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["name"].as_str().unwrap())
+        .collect();
+    let table = html.find("<table id=\"params-across\"");
+    match table {
+        Some(at) => {
+            let body = &html[at..html[at..].find("</table>").unwrap() + at];
+            assert_eq!(
+                body.matches("<tr><td>").count(),
+                names.len(),
+                "one row per parameter"
+            );
+            for n in &names {
+                assert!(body.contains(&format!("<tr><td>{n}</td>")), "{n}");
+            }
+        }
+        None => assert!(names.is_empty(), "no table, and no parameter differs"),
+    }
+    (page, html)
+}
+
+#[test]
+fn comparing_logs_of_the_repository_overlays_them() {
+    assert_compared(
+        "compare-own",
+        &["esc_status_log", "sample_appended_multiple"],
+    );
+}
+
+#[test]
+#[cfg_attr(
+    not(all(chromium, full_corpus)),
+    ignore = "needs /usr/bin/chromium with playwright-core in target/node (.ci/run installs \
+              both) and the full corpus"
+)]
+fn comparing_flights_overlays_them_on_time_since_takeoff_in_chromium() {
+    let stems = [NEW_2024.0, "log_123_2024-3-1-14-47-02", OLD_2016.0];
+    let (page, html) = assert_compared("compare-flights", &stems);
+    // Both 2024 flights take off: time 0 is marked.
+    let data = page_data(&html);
+    assert_eq!(data["marks"][0]["kind"], "takeoff");
+    let r = browse(&page, "battery", None);
+    assert_eq!(r["errors"], serde_json::json!([]), "console errors");
+    assert_eq!(r["requests"], serde_json::json!([]), "requests");
+    for id in plot_ids(&data) {
+        let px = r["plots"][&id]["linePixels"].as_u64().unwrap_or(0);
+        assert!(px > 20, "plot {id} is drawn ({px} line pixels)");
+    }
+    assert!(
+        r["paramsAcross"].as_array().unwrap().len() > 100,
+        "the parameters that differ, as the browser shows them"
+    );
+}

@@ -8,6 +8,8 @@
   // Line colours: none of them grey, as the axes and grid are.
   var COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
     "#e377c2", "#17becf", "#393b79", "#bcbd22"];
+  // The lines of one log on a page comparing logs: solid, dashed, dotted, dash-dot.
+  var DASHES = [[], [6, 3], [2, 2], [8, 3, 2, 3]];
   // Apart from the line colours, so that tests can tell lines from marks.
   var MARK_COLORS = { arm: "#006400", disarm: "#444444", takeoff: "#0000cd",
     landing: "#8b008b", error: "#ff0000", diagnostic: "#b8860b" };
@@ -124,11 +126,14 @@
     var series = [{ label: "time", value: timeText }];
     var n = 0;
     p.tables.forEach(function (t) {
-      t.labels.forEach(function (label) {
-        var color = COLORS[n % COLORS.length];
+      t.labels.forEach(function (label, k) {
+        // A table with a colour of its own (a log's, comparing logs): its lines
+        // differ by dashes.
+        var color = t.color || COLORS[n % COLORS.length];
         series.push({
           label: label,
           stroke: color,
+          dash: t.color ? DASHES[k % DASHES.length] : undefined,
           width: 1,
           spanGaps: tables.length > 1,
           // A few samples (one, even) are dots as well as a line.
@@ -143,7 +148,7 @@
       height: 260,
       series: series,
       scales: { x: { time: false }, y: { range: yRange } },
-      axes: [{ label: "seconds since the log's start" }, { label: p.unit, size: 60 }],
+      axes: [{ label: data.x_label }, { label: p.unit, size: 60 }],
       cursor: {
         sync: { key: "ulog-report", setSeries: false },
         drag: { x: true, y: false },

@@ -52,16 +52,8 @@ pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
     let log_a = &logs[0];
     let (diffs, columns) = match args.diff_defaults {
         None => {
-            let stems: Vec<String> = files.iter().map(|p| input::stem(p)).collect();
-            let unique = stems
-                .iter()
-                .enumerate()
-                .all(|(i, s)| !stems[..i].contains(s));
-            let columns = match unique {
-                true => stems,
-                // Logs of the same name in different folders: their paths.
-                false => files.iter().map(|p| p.display().to_string()).collect(),
-            };
+            let paths: Vec<&std::path::Path> = files.iter().map(|p| p.as_path()).collect();
+            let columns = input::column_names(&paths);
             let sets: Vec<BTreeMap<String, Value<'_>>> =
                 logs.iter().map(|l| values(l, args.initial)).collect();
             let sets: Vec<&BTreeMap<String, Value<'_>>> = sets.iter().collect();

@@ -214,6 +214,7 @@ impl Attitude {
                         x: t.x.clone(),
                         y: vec![t.y[axis].clone()],
                         thinned: t.thinned,
+                        color: None,
                     });
                 }
             }

@@ -28,6 +28,8 @@ pub struct Drawn {
     pub origin_us: u64,
     /// The log's duration in seconds (the time axis of every plot).
     pub duration: f64,
+    /// What the time axis counts.
+    pub x_label: &'static str,
     /// Flight modes, behind every time plot.
     pub modes: Vec<ModeBand>,
     /// Marked instants.
@@ -66,6 +68,10 @@ pub struct Page {
     pub diagnostics: Vec<DiagnosticRow>,
     /// What the flight analysis could not do, and why.
     pub analysis_notes: Vec<String>,
+    /// On a page comparing logs: the parameters that differ across them (the columns'
+    /// names, then per parameter its name and each log's value). Such a page has no
+    /// messages, parameter or information tables of its own.
+    pub params_across: Option<(Vec<String>, Vec<Vec<String>>)>,
     /// The drawn part.
     pub drawn: Drawn,
 }
@@ -136,6 +142,10 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
     }
     h.push_str("<div id=\"analysis-plots\"></div></section>\n");
 
+    if let Some((columns, rows)) = &page.params_across {
+        params_across(&mut h, columns, rows);
+        return Ok(finish(h, &data));
+    }
     messages_table(&mut h, &page.messages);
     h.push_str("<section><h2>Parameters changed from their defaults</h2>\n");
     if page.params_vs_defaults.is_empty() {
@@ -172,6 +182,11 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
     h.push_str("</section>\n");
     key_values(&mut h, "Information", "info", &page.info);
     key_values(&mut h, "Multi-information", "multi-info", &page.multi);
+    Ok(finish(h, &data))
+}
+
+/// The footer, the data and the scripts.
+fn finish(mut h: String, data: &str) -> String {
     let _ = writeln!(
         h,
         "<footer>Written by <code>ulog report</code>. Plots drawn with uPlot 1.6.32 \
@@ -183,7 +198,29 @@ pub fn render(page: &Page) -> Result<String, serde_json::Error> {
         "<script id=\"report-data\" type=\"application/json\">{data}</script>\n\
          <script>\n{UPLOT_JS}\n</script>\n<script>\n{REPORT_JS}\n</script>\n</body>\n</html>\n"
     );
-    Ok(h)
+    h
+}
+
+/// The parameters that differ across the logs of a comparing page.
+fn params_across(h: &mut String, columns: &[String], rows: &[Vec<String>]) {
+    h.push_str("<section><h2>Parameters that differ across the logs</h2>\n");
+    if rows.is_empty() {
+        h.push_str("<p class=\"note\">None: every log has the same parameters.</p></section>\n");
+        return;
+    }
+    h.push_str("<table id=\"params-across\" class=\"list\"><thead><tr><th>name</th>");
+    for c in columns {
+        let _ = write!(h, "<th>{}</th>", escape(c));
+    }
+    h.push_str("</tr></thead><tbody>\n");
+    for r in rows {
+        h.push_str("<tr>");
+        for cell in r {
+            let _ = write!(h, "<td>{}</td>", escape(cell));
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</tbody></table></section>\n");
 }
 
 fn diagnostics_table(h: &mut String, rows: &[DiagnosticRow]) {

@@ -1,6 +1,7 @@
 //! `ulog report`: one self-contained HTML page with what Flight Review shows of a log.
 
 mod analysis;
+mod compare;
 mod facts;
 mod flight;
 mod html;
@@ -47,6 +48,12 @@ use crate::input;
 /// outputs while armed, the gyro's and accelerometer's spectrograms, and the rate
 /// controllers' step responses.
 ///
+/// Several files: one page comparing the flights. The standard plots of every log
+/// overlaid, one colour per log (a log's own lines differ by dashes), each on time
+/// since its first takeoff (or its start where it never takes off); every log's
+/// diagnostics in one table; and the parameters that differ across the logs (as
+/// `ulog params A --diff B --diff C` lists them).
+///
 /// Then the tables: logged messages and events (filterable by level), parameters
 /// changed from their defaults and during the flight, information and
 /// multi-information. Text is escaped; characters HTML cannot hold (control characters
@@ -62,9 +69,11 @@ use crate::input;
     long_about
 )]
 pub struct Args {
-    /// The ULog file.
-    file: PathBuf,
-    /// The page to write (default: `<FILE stem>_report.html` next to FILE).
+    /// The ULog file; several: one page comparing them.
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<PathBuf>,
+    /// The page to write (default: `<FILE stem>_report.html` next to FILE; comparing
+    /// logs, `<first stem>_compare.html` next to the first).
     #[arg(short = 'o', long = "output", value_name = "OUT")]
     output: Option<PathBuf>,
     /// Open the page in the default browser when written.
@@ -77,32 +86,35 @@ const TRACK_POINTS: usize = 5000;
 /// The most fields per topic plotted for a log without PX4's topics.
 const FIELDS_PER_TOPIC: usize = 8;
 
-/// The report of a log read in passes over the file ([`pass`]): the first keeps the
-/// metadata and counts the rows, the second reads the topics the page draws; a third
-/// (every topic) only for a log whose standard plots turned out empty. The memory is
-/// what the page holds, not the log.
-pub fn run(args: &Args) -> Result<(), Failure> {
-    let name = args.file.display().to_string();
-    let input = pass::Input::open(&args.file)?;
-    let survey = pass::survey(&input, &name)?;
-    let log = survey
-        .metadata
-        .log()
-        .map_err(|e| Failure::new(Status::Refused, &name, input::error_text(&e)))?;
-    let rows = &survey.rows;
-    // One time axis: the log's span (`TimeSpan`), which stale or stray timestamps
-    // do not stretch; the rows far outside it are listed with the damage.
-    let span = log.span().clone();
-    let start = span.start();
+/// What the passes over one log give the page: its plots, the flight analysis, the
+/// track.
+struct Drawing {
+    plots: Vec<plots::Plot>,
+    missing: Vec<plots::Missing>,
+    track: Option<flight::Track>,
+    flight: ulog_core::analysis::FlightAnalysis,
+    /// The standard plots came out empty: one plot per topic instead.
+    every_topic: bool,
+}
 
+/// Reads a log's plots and its flight analysis in the second pass over `input` (a
+/// third, every topic, only for a log whose standard plots turned out empty).
+fn draw(
+    input: &pass::Input,
+    name: &str,
+    survey: &pass::Survey,
+    log: &ulog_core::ULog<'_>,
+) -> Result<Drawing, Failure> {
+    let rows = &survey.rows;
+    let span = log.span();
     let mut analyzer = FlightAnalyzer::new(&AnalyzeOptions::default());
-    let mut standard = plots::standard(&log, rows, &span);
-    let mut attitude = flight::attitude(&log, rows, &span);
-    let mut track = flight::track(&log, rows, TRACK_POINTS);
+    let mut standard = plots::standard(log, rows, span);
+    let mut attitude = flight::attitude(log, rows, span);
+    let mut track = flight::track(log, rows, TRACK_POINTS);
     // A log with none of the standard topics has every topic plotted: read in the
     // same pass.
     let mut others = (plots::none_found(&standard) && attitude.is_none())
-        .then(|| plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC));
+        .then(|| plots::every_topic(log, rows, span, FIELDS_PER_TOPIC));
     let mut routes = pass::Routes::new(log.subscriptions().len());
     plots::route(&mut standard, &mut routes);
     attitude.route(&mut routes);
@@ -112,13 +124,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(o) = &mut others {
         plots::route_topics(o, &mut routes);
     }
-    pass::read(&input, &name, &survey, routes, Some(&mut analyzer))?;
+    pass::read(input, name, survey, routes, Some(&mut analyzer))?;
 
     let flight = analyzer.finish();
-    let (modes, mut marks, armed_s) = analysis::timeline(&flight, &span);
-    let figures = flight::figures(&flight);
-    let (diagnostics, diagnostic_marks) = analysis::diagnostics(&flight, &span);
-    marks.extend(diagnostic_marks);
     let (mut plots, missing) = plots::finish_standard(standard);
     // Attitude after altitude, as Flight Review orders them.
     let at = plots
@@ -126,25 +134,68 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .position(|p| p.id == "altitude")
         .map_or(0, |i| i + 1);
     plots.splice(at..at, attitude.finish());
+    let every_topic = plots.is_empty();
+    if every_topic {
+        let others = match others {
+            Some(o) => o,
+            // Standard topics whose values all turned out missing: one more pass.
+            None => {
+                let mut o = plots::every_topic(log, rows, span, FIELDS_PER_TOPIC);
+                let mut routes = pass::Routes::new(log.subscriptions().len());
+                plots::route_topics(&mut o, &mut routes);
+                pass::read(input, name, survey, routes, None)?;
+                o
+            }
+        };
+        plots = plots::finish_topics(others);
+    }
+    Ok(Drawing {
+        plots,
+        missing,
+        track,
+        flight,
+        every_topic,
+    })
+}
+
+/// The report of a log read in passes over the file ([`pass`]): the first keeps the
+/// metadata and counts the rows, the second reads the topics the page draws and runs
+/// the flight analysis ([`draw`]). The memory is what the page holds, not the log.
+/// Several files: the page comparing them ([`compare`]).
+pub fn run(args: &Args) -> Result<(), Failure> {
+    if args.files.len() > 1 {
+        return compare::run(args);
+    }
+    let file = &args.files[0];
+    let name = file.display().to_string();
+    let input = pass::Input::open(file)?;
+    let survey = pass::survey(&input, &name)?;
+    let log = survey
+        .metadata
+        .log()
+        .map_err(|e| Failure::new(Status::Refused, &name, input::error_text(&e)))?;
+    // One time axis: the log's span (`TimeSpan`), which stale or stray timestamps
+    // do not stretch; the rows far outside it are listed with the damage.
+    let span = log.span().clone();
+    let start = span.start();
+    let Drawing {
+        plots,
+        missing,
+        track,
+        flight,
+        every_topic,
+    } = draw(&input, &name, &survey, &log)?;
+    let (modes, mut marks, armed_s) = analysis::timeline(&flight, &span);
+    let figures = flight::figures(&flight);
+    let (diagnostics, diagnostic_marks) = analysis::diagnostics(&flight, &span);
+    marks.extend(diagnostic_marks);
     let mut notes = Vec::new();
-    if plots.is_empty() {
+    if every_topic {
         notes.push(
             "The log has none of the topics of PX4's standard plots: below is one plot per \
              topic, with its first numeric fields."
                 .to_owned(),
         );
-        let others = match others {
-            Some(o) => o,
-            // Standard topics whose values all turned out missing: one more pass.
-            None => {
-                let mut o = plots::every_topic(&log, rows, &span, FIELDS_PER_TOPIC);
-                let mut routes = pass::Routes::new(log.subscriptions().len());
-                plots::route_topics(&mut o, &mut routes);
-                pass::read(&input, &name, &survey, routes, None)?;
-                o
-            }
-        };
-        plots = plots::finish_topics(others);
     }
     if modes.is_empty() {
         notes.push("No flight modes: the log has no vehicle_status.".to_owned());
@@ -173,8 +224,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         &flight,
     );
     let page = html::Page {
-        title: args
-            .file
+        title: file
             .file_name()
             .map_or_else(|| name.clone(), |n| n.to_string_lossy().into_owned()),
         header,
@@ -187,9 +237,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         multi,
         diagnostics,
         analysis_notes: flight.notes.clone(),
+        params_across: None,
         drawn: html::Drawn {
             origin_us: start,
             duration: span.duration_s(),
+            x_label: "seconds since the log's start",
             modes,
             marks,
             plots,
@@ -198,13 +250,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             heatmaps: analysis::heatmaps(&flight, &span),
         },
     };
-    let text = html::render(&page).map_err(|e| Failure::about(&name, e))?;
-    let out = match &args.output {
-        Some(p) => p.clone(),
-        None => default_output(&args.file),
-    };
+    let out = args.output.clone().unwrap_or_else(|| default_output(file));
+    write_page(args, &page, &name, &out)
+}
+
+/// Writes `page` to `out`, says so, and opens it when asked.
+fn write_page(args: &Args, page: &html::Page, name: &str, out: &Path) -> Result<(), Failure> {
+    let text = html::render(page).map_err(|e| Failure::about(name, e))?;
     let shown = out.display().to_string();
-    std::fs::write(&out, text.as_bytes()).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
+    std::fs::write(out, text.as_bytes()).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
     writeln!(
         std::io::stdout(),
         "Wrote {shown}: {} plot(s), {} message(s), {} KB",
@@ -214,7 +268,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )
     .map_err(stdout_err)?;
     if args.open {
-        open_in_browser(&out).map_err(|e| Failure::about(&shown, e))?;
+        open_in_browser(out).map_err(|e| Failure::about(&shown, e))?;
     }
     Ok(())
 }

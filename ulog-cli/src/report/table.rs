@@ -29,6 +29,9 @@ pub struct Table {
     pub y: Vec<Vec<f32>>,
     /// Whether rows were left out (the table's rows outnumbered [`KEEP_WHOLE`]).
     pub thinned: bool,
+    /// One colour for every line of the table (a log's, on a page comparing logs);
+    /// the lines then differ by dashes.
+    pub color: Option<&'static str>,
 }
 
 impl Table {
@@ -66,12 +69,15 @@ impl Serialize for Table {
                 s.collect_seq(self.0.iter().map(|v| v.is_finite().then_some(*v)))
             }
         }
-        let mut st = s.serialize_struct("Table", 4)?;
+        let mut st = s.serialize_struct("Table", 5)?;
         st.serialize_field("labels", &self.labels)?;
         st.serialize_field("x", &self.x)?;
         let y: Vec<Values<'_>> = self.y.iter().map(|l| Values(l)).collect();
         st.serialize_field("y", &y)?;
         st.serialize_field("thinned", &self.thinned)?;
+        if let Some(c) = self.color {
+            st.serialize_field("color", c)?;
+        }
         st.end()
     }
 }
@@ -103,6 +109,7 @@ impl Builder {
                 labels,
                 x: Vec::new(),
                 thinned: false,
+                color: None,
             },
             lines,
             thin: rows > KEEP_WHOLE,

@@ -180,13 +180,19 @@ async function main() {
     out.title = await page.title();
     out.cells = await page.evaluate(() =>
       Array.from(document.querySelectorAll("td")).map((td) => td.textContent));
-    // The level filter: ERROR and above.
-    await page.selectOption("#level-filter", "3");
-    out.messagesShownAtError = await page.evaluate(() =>
-      Array.from(document.querySelectorAll("#messages tbody tr")).filter((tr) => !tr.hidden).length);
+    // The level filter: ERROR and above (a page comparing logs has no messages).
+    const filter = await page.$("#level-filter");
+    if (filter) {
+      await page.selectOption("#level-filter", "3");
+      out.messagesShownAtError = await page.evaluate(() =>
+        Array.from(document.querySelectorAll("#messages tbody tr")).filter((tr) => !tr.hidden).length);
+    }
+    out.paramsAcross = await page.evaluate(() =>
+      Array.from(document.querySelectorAll("#params-across tbody tr")).map((tr) =>
+        Array.from(tr.querySelectorAll("td")).map((td) => td.textContent)));
 
     if (screenshot) {
-      await page.selectOption("#level-filter", "7");
+      if (filter) await page.selectOption("#level-filter", "7");
       await page.evaluate(() => window.scrollTo(0, 0));
       await page.mouse.move(0, 0);
       await page.setViewportSize({ width: 1280, height: 1500 });
