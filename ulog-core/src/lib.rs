@@ -90,7 +90,7 @@ pub mod events;
 pub mod export;
 mod finding;
 mod framing;
-#[cfg(any(feature = "parquet", feature = "mcap"))]
+#[cfg(any(feature = "parquet", feature = "mcap", feature = "analysis"))]
 mod json_text;
 mod log;
 #[cfg(feature = "mcap")]
