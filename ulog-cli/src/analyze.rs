@@ -7,10 +7,9 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 use ulog_core::analysis::{analyze, AnalyzeOptions, FlightAnalysis};
-use ulog_core::Source;
 
 use crate::failure::{stdout_err, Failure};
-use crate::input;
+use crate::input::{self, Input};
 
 /// Analyse flights: per log, the diagnostics of Flight Review v2 (`battery_brownout`,
 /// `ekf_failure`, `gps_interference`, `motor_failure`, `rc_loss`) with severity,
@@ -63,14 +62,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 fn analyse(path: &Path, name: &str, options: &AnalyzeOptions) -> Result<FlightAnalysis, Failure> {
-    input::not_a_directory(path)?;
-    let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
-    if regular {
-        analyze(Source::file(path), options).map_err(|e| input::pass_failure(Some(path), name, &e))
-    } else {
-        let file = input::open(path)?;
-        analyze(&file, options).map_err(|e| input::pass_failure(None, name, &e))
-    }
+    let input = Input::open(path)?;
+    analyze(input.source(), options).map_err(|e| input.failure(name, &e))
 }
 
 /// The library's JSON of the analysis ([`FlightAnalysis::json`]) with the log's name

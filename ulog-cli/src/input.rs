@@ -84,6 +84,58 @@ pub fn keep_from(
     Ok(Kept { metadata })
 }
 
+/// Where a log is read from, once per pass (the report reads it twice).
+pub enum Input {
+    /// A regular file: read again for each pass.
+    File(std::path::PathBuf),
+    /// Anything else (a pipe): read once into memory, since it cannot be read twice.
+    Read(LogFile),
+}
+
+impl Input {
+    /// The log at `path`; a missing, unreadable or directory path is a failure.
+    pub fn open(path: &Path) -> Result<Input, Failure> {
+        not_a_directory(path)?;
+        let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+        if regular {
+            Ok(Input::File(path.to_owned()))
+        } else {
+            open(path).map(Input::Read)
+        }
+    }
+
+    /// The file's size and modification time as they are now (a file rewritten
+    /// between the passes changes them even where its framing does not); `None` for
+    /// a log read into memory.
+    pub fn stamp(&self) -> Option<(u64, Option<std::time::SystemTime>)> {
+        match self {
+            Input::File(path) => std::fs::metadata(path)
+                .ok()
+                .map(|m| (m.len(), m.modified().ok())),
+            Input::Read(_) => None,
+        }
+    }
+
+    /// The log as a pass reads it: a file in chunks, or the bytes in memory.
+    pub fn source(&self) -> Source<'_> {
+        match self {
+            Input::File(path) => Source::file(path),
+            Input::Read(file) => Source::from(file),
+        }
+    }
+
+    /// The failure of a pass, as reading the whole file and parsing it gave it: a
+    /// read that fails is about the file, a log that is not one (or is refused) about
+    /// `name`.
+    pub fn failure(&self, name: &str, e: &ReadError) -> Failure {
+        let path = match self {
+            Input::File(path) => Some(path.as_path()),
+            Input::Read(_) => None,
+        };
+        pass_failure(path, name, e)
+    }
+}
+
 /// The failure of a pass, as reading the whole file and parsing it gave it: a read
 /// that fails is about the file `path`, a log that is not one (or is refused) about
 /// `name`.

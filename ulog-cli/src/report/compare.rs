@@ -49,7 +49,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut read = Vec::new();
     for file in &files {
         let name = file.display().to_string();
-        let input = pass::Input::open(file)?;
+        let input = crate::input::Input::open(file)?;
         let survey = pass::survey(&input, &name)?;
         read.push((name, input, survey));
     }

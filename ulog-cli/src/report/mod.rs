@@ -100,7 +100,7 @@ struct Drawing {
 /// Reads a log's plots and its flight analysis in the second pass over `input` (a
 /// third, every topic, only for a log whose standard plots turned out empty).
 fn draw(
-    input: &pass::Input,
+    input: &crate::input::Input,
     name: &str,
     survey: &pass::Survey,
     log: &ulog_core::ULog<'_>,
@@ -168,7 +168,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let file = &args.files[0];
     let name = file.display().to_string();
-    let input = pass::Input::open(file)?;
+    let input = crate::input::Input::open(file)?;
     let survey = pass::survey(&input, &name)?;
     let log = survey
         .metadata

@@ -1,56 +1,14 @@
-//! The report's passes over a log: the first keeps everything but the data (the
-//! metadata) and counts each subscription's rows; the second hands each data message
-//! to what reads its subscription ([`Routes`]) and to the flight analysis. A file is read in chunks, so the
-//! memory is what the page holds, not the log.
-
-use std::path::Path;
+//! The report's passes over a log ([`Input`]): the first keeps everything but the
+//! data (the metadata) and counts each subscription's rows; the second hands each data
+//! message to what reads its subscription ([`Routes`]) and to the flight analysis. A
+//! file is read in chunks, so the memory is what the page holds, not the log.
 
 use ulog_core::analysis::FlightAnalyzer;
 use ulog_core::read::LogMetadata;
-use ulog_core::{LogFile, ReadError, ScanOptions, ScanSummary, Source};
+use ulog_core::{ScanOptions, ScanSummary};
 
 use crate::failure::Failure;
-use crate::input;
-
-/// Where the log is read from, once per pass.
-pub enum Input {
-    /// A regular file: read again for each pass.
-    File(std::path::PathBuf),
-    /// Anything else (a pipe): read once into memory, since it cannot be read twice.
-    Read(LogFile),
-}
-
-impl Input {
-    /// The log at `path`; a missing, unreadable or directory path is a failure.
-    pub fn open(path: &Path) -> Result<Input, Failure> {
-        input::not_a_directory(path)?;
-        let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
-        if regular {
-            Ok(Input::File(path.to_owned()))
-        } else {
-            input::open(path).map(Input::Read)
-        }
-    }
-
-    /// The file's size and modification time as they are now (a file rewritten
-    /// between the passes changes them even where its framing does not); `None` for
-    /// a log read into memory.
-    fn stamp(&self) -> Option<(u64, Option<std::time::SystemTime>)> {
-        match self {
-            Input::File(path) => std::fs::metadata(path)
-                .ok()
-                .map(|m| (m.len(), m.modified().ok())),
-            Input::Read(_) => None,
-        }
-    }
-
-    fn source(&self) -> Source<'_> {
-        match self {
-            Input::File(path) => Source::file(path),
-            Input::Read(file) => Source::from(file),
-        }
-    }
-}
+use crate::input::Input;
 
 /// What the first pass found.
 pub struct Survey {
@@ -81,7 +39,7 @@ pub fn survey(input: &Input, name: &str) -> Result<Survey, Failure> {
         }
         rows[i] += 1;
     })
-    .map_err(|e| failure(input, name, &e))?;
+    .map_err(|e| input.failure(name, &e))?;
     rows.resize(summary.topics.len(), 0);
     let Some(metadata) = summary.metadata.take() else {
         unreachable!("a pass asked to keep the metadata keeps it")
@@ -145,7 +103,7 @@ pub fn read(
             a.push(r.topic, r.payload);
         }
     })
-    .map_err(|e| failure(input, name, &e))?;
+    .map_err(|e| input.failure(name, &e))?;
     let seen = |s: &ScanSummary| {
         (
             s.header,
@@ -163,14 +121,4 @@ pub fn read(
         ));
     }
     Ok(())
-}
-
-/// The failure of a pass, as reading the whole file and parsing it gave it: a read
-/// that fails is about the file, a log that is not one (or is refused) about `name`.
-fn failure(input: &Input, name: &str, e: &ReadError) -> Failure {
-    let path = match input {
-        Input::File(path) => Some(path.as_path()),
-        Input::Read(_) => None,
-    };
-    input::pass_failure(path, name, e)
 }
