@@ -5,7 +5,6 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use serde_json::{Map, Value};
 use ulog_core::analysis::{analyze, AnalyzeOptions, FlightAnalysis};
 
 use crate::failure::{stdout_err, Failure};
@@ -66,14 +65,15 @@ fn analyse(path: &Path, name: &str, options: &AnalyzeOptions) -> Result<FlightAn
     analyze(input.source(), options).map_err(|e| input.failure(name, &e))
 }
 
-/// The library's JSON of the analysis ([`FlightAnalysis::json`]) with the log's name
-/// first.
+/// The library's JSON of the analysis ([`FlightAnalysis::json`], an object) with the
+/// log's name as its first key.
 fn to_json(name: &str, f: &FlightAnalysis) -> Result<String, serde_json::Error> {
-    let analysis: Map<String, Value> = serde_json::from_str(&f.json())?;
-    let mut object = Map::new();
-    object.insert("file".into(), Value::String(name.to_owned()));
-    object.extend(analysis);
-    serde_json::to_string(&Value::Object(object))
+    let json = f.json();
+    let rest = json.strip_prefix('{').unwrap_or(&json);
+    Ok(format!(
+        "{{\"file\":{},{rest}",
+        serde_json::to_string(name)?
+    ))
 }
 
 fn opt(v: Option<f64>, unit: &str) -> String {

@@ -85,9 +85,11 @@ impl Motors {
             1..=16 => a.noutputs as usize,
             _ => 16,
         };
-        let mode = now
-            .nav_state
-            .map_or_else(|| "unknown".to_owned(), mode_name);
+        // Named only when a rule fires: no allocation per row.
+        let mode = || {
+            now.nav_state
+                .map_or_else(|| "unknown".to_owned(), mode_name)
+        };
         let outputs = &a.output[..count];
         if outputs.iter().any(|v| *v > PWM_SCALE_END) {
             let i = &mut self.instances[at];
@@ -105,6 +107,7 @@ impl Motors {
                 o.active = true;
             } else if o.active && !o.dropped {
                 o.dropped = true;
+                let mode = mode();
                 self.found.push(Diagnostic {
                     id: "motor_failure",
                     severity: Severity::Critical,
@@ -136,6 +139,7 @@ impl Motors {
             } else if *rows >= LOCKED_ROWS && !o.locked {
                 o.locked = true;
                 o.lock_report = Some(self.found.len());
+                let mode = mode();
                 self.found.push(Diagnostic {
                     id: "motor_failure",
                     severity: Severity::Warning,
