@@ -13,7 +13,8 @@
 // `jsonschema`, `cfg(query_engines)` where it can import `duckdb`, `datafusion` and `xxhash`
 // (which run the README's fleet queries), `cfg(pandas)` where it can import pyulog,
 // `pandas` and `numpy` (which `ulog align` is checked with), `cfg(pyarrow)` where it can
-// import `pyarrow` (which reads the Parquet tables of `ulog align`); `cfg(chromium)` where `/usr/bin/chromium`
+// import `pyarrow` (which reads the Parquet tables of `ulog align`), `cfg(s3_server)` where it
+// can import moto's server, boto3 and pyarrow (an S3 server on 127.0.0.1, for object storage); `cfg(chromium)` where `/usr/bin/chromium`
 // exists and `node` can require `playwright-core` from `target/node` of the workspace
 // (`.ci/run` installs it; the reports' browser tests are `ignore`d otherwise);
 // `cfg(flight_review)` where flight-review-rs's `ulog-convert` is built
@@ -27,7 +28,7 @@
 fn probe(shared: &str, own: &str) -> std::path::PathBuf {
     use std::path::Path;
     println!(
-        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, pandas, pyarrow, chromium, flight_review)"
+        "cargo::rustc-check-cfg=cfg(full_corpus, pyulog, simplekml, mcap_readers, query_engines, pandas, pyarrow, s3_server, chromium, flight_review)"
     );
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=../tests/probe.rs");
@@ -72,6 +73,11 @@ fn probe(shared: &str, own: &str) -> std::path::PathBuf {
         ("query_engines", "duckdb, datafusion, xxhash", "duckdb, datafusion or xxhash"),
         ("pandas", "pyulog, pandas, numpy", "pandas or numpy"),
         ("pyarrow", "pyarrow", "pyarrow"),
+        (
+            "s3_server",
+            "moto.server, boto3, pyarrow.fs",
+            "moto[server] or boto3 (the S3 server and client of the object-storage tests)",
+        ),
     ];
     for (cfg, imports, what) in packages {
         let found = std::process::Command::new("python3")

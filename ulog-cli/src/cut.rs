@@ -150,7 +150,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         &name,
         &args.file,
         &args.output,
-        Source::file(&args.file),
+        input::source(&args.file)?,
         edit,
         refuse,
     )
@@ -167,10 +167,10 @@ fn bound(flag: &str, seconds: Option<u64>, us: Option<u64>) -> String {
 
 /// The header of the log at `path` (named `name`), from its first bytes.
 pub fn header(name: &str, path: &Path) -> Result<Header, Failure> {
-    input::not_a_directory(path)?;
     let mut head = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(HEADER_SIZE as u64).read_to_end(&mut head))
+    input::reader(name, path)?
+        .take(HEADER_SIZE as u64)
+        .read_to_end(&mut head)
         .map_err(|e| Failure::unreadable(name, io_text(&e)))?;
     let mut framing = Messages::new(&head);
     let first = framing.next();

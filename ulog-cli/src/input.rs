@@ -4,20 +4,64 @@
 use std::path::{Path, PathBuf};
 
 use ulog_core::read::{LogMetadata, ReadErrorKind, UtcClock};
+use ulog_core::store::{Remote, StoreError};
 use ulog_core::{LogFile, ReadError, ScanOptions, Source, ULog};
 
 use crate::failure::{io_text, Failure, Status};
 
 /// Reads the file at `path` into memory ([`LogFile::open`]: a copy, so that a file
 /// that changes meanwhile cannot kill the process); a missing, unreadable or directory
-/// path is a failure.
+/// path is a failure. An `s3://`, `https://` or `http://` URL is fetched whole.
 pub fn open(path: &Path) -> Result<LogFile, Failure> {
+    if let Some(remote) = remote(path)? {
+        return remote.fetch().map_err(|e| store_failure(&e));
+    }
     not_a_directory(path)?;
     LogFile::open(path).map_err(|e| Failure::unreadable(path.display(), error_text(&e)))
 }
 
-/// A missing or unreadable path, or a directory, is a failure about `path`.
+/// The object `path` names when it is an `s3://`, `https://` or `http://` URL
+/// ([`ulog_core::store::Location`]); `None` for a local path.
+pub fn remote(path: &Path) -> Result<Option<Remote>, Failure> {
+    match path.to_str() {
+        Some(text) if Remote::is_url(text) => {
+            Remote::parse(text).map(Some).map_err(|e| store_failure(&e))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// A failed request to object storage, about its URL.
+pub fn store_failure(e: &StoreError) -> Failure {
+    Failure::unreadable(e.url(), e.what())
+}
+
+/// The log at `path` as a pass reads it: a file in chunks, or an object of a store
+/// by ranged requests as the pass goes.
+pub fn source(path: &Path) -> Result<Source<'static>, Failure> {
+    match remote(path)? {
+        Some(remote) => Ok(Source::reader(remote.reader())),
+        None => Ok(Source::file(path)),
+    }
+}
+
+/// The bytes of the log at `path` in order: the file, or the object by ranged
+/// requests as they are read. A missing or unreadable path is a failure about `name`.
+pub fn reader(name: &str, path: &Path) -> Result<Box<dyn std::io::Read + Send>, Failure> {
+    if let Some(remote) = remote(path)? {
+        return Ok(Box::new(remote.reader()));
+    }
+    not_a_directory(path)?;
+    let file = std::fs::File::open(path).map_err(|e| Failure::unreadable(name, io_text(&e)))?;
+    Ok(Box::new(file))
+}
+
+/// A missing or unreadable path, or a directory, is a failure about `path` (a URL is
+/// checked when it is read).
 pub fn not_a_directory(path: &Path) -> Result<(), Failure> {
+    if remote(path)?.is_some() {
+        return Ok(());
+    }
     let shown = path.display();
     let meta = std::fs::metadata(path).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
     if meta.is_dir() {
@@ -55,6 +99,12 @@ impl Kept {
 /// read that fails, is a failure about `path`; a file that is not ULog (or one to
 /// refuse) one about the log.
 pub fn keep(path: &Path, topics: &[&str]) -> Result<Kept, Failure> {
+    if let Some(remote) = remote(path)? {
+        // A missing object is said as such, before any pass.
+        remote.size().map_err(|e| store_failure(&e))?;
+        let url = remote.url();
+        return keep_from(Source::reader(remote.reader()), None, &url, topics);
+    }
     not_a_directory(path)?;
     keep_from(
         Source::file(path),
@@ -90,11 +140,18 @@ pub enum Input {
     File(std::path::PathBuf),
     /// Anything else (a pipe): read once into memory, since it cannot be read twice.
     Read(LogFile),
+    /// An object of a store: read again for each pass, by ranged requests.
+    Remote(Remote),
 }
 
 impl Input {
-    /// The log at `path`; a missing, unreadable or directory path is a failure.
+    /// The log at `path` (or URL); a missing, unreadable or directory path is a
+    /// failure.
     pub fn open(path: &Path) -> Result<Input, Failure> {
+        if let Some(remote) = remote(path)? {
+            remote.size().map_err(|e| store_failure(&e))?;
+            return Ok(Input::Remote(remote));
+        }
         not_a_directory(path)?;
         let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
         if regular {
@@ -112,15 +169,17 @@ impl Input {
             Input::File(path) => std::fs::metadata(path)
                 .ok()
                 .map(|m| (m.len(), m.modified().ok())),
-            Input::Read(_) => None,
+            Input::Read(_) | Input::Remote(_) => None,
         }
     }
 
-    /// The log as a pass reads it: a file in chunks, or the bytes in memory.
+    /// The log as a pass reads it: a file in chunks, the bytes in memory, or an
+    /// object by ranged requests.
     pub fn source(&self) -> Source<'_> {
         match self {
             Input::File(path) => Source::file(path),
             Input::Read(file) => Source::from(file),
+            Input::Remote(remote) => Source::reader(remote.reader()),
         }
     }
 
@@ -130,7 +189,7 @@ impl Input {
     pub fn failure(&self, name: &str, e: &ReadError) -> Failure {
         let path = match self {
             Input::File(path) => Some(path.as_path()),
-            Input::Read(_) => None,
+            Input::Read(_) | Input::Remote(_) => None,
         };
         pass_failure(path, name, e)
     }
@@ -256,7 +315,22 @@ pub fn strip_log_extension(name: &str) -> Option<&str> {
 /// The logs an input of the command line names ([`LogFile::find`]): the file itself,
 /// or the logs in a directory and its subdirectories, sorted, each with its size. A
 /// missing input, or a directory without logs, is a failure about it.
+/// An `s3://` URL names the object itself, or every log below it as a prefix; an
+/// `http(s)://` URL one object.
 pub fn logs_in(input: &Path) -> Result<Vec<(PathBuf, u64)>, Failure> {
+    if let Some(remote) = remote(input)? {
+        let logs = remote.find_logs().map_err(|e| match e.kind() {
+            ulog_core::store::StoreErrorKind::NotFound => Failure::unreadable(
+                e.url(),
+                "no such object, and no .ulg or .ulog objects below it",
+            ),
+            _ => store_failure(&e),
+        })?;
+        return Ok(logs
+            .into_iter()
+            .map(|(r, size)| (PathBuf::from(r.url()), size))
+            .collect());
+    }
     let logs = LogFile::find(input).map_err(|e| {
         let text = std::error::Error::source(&e)
             .and_then(|s| s.downcast_ref::<std::io::Error>())

@@ -4,7 +4,6 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use ulog_core::mcap::{write_mcap, McapEncoding, McapOptions, McapWriteError};
-use ulog_core::Source;
 
 use crate::failure::{io_text, stdout_err, Failure, Status};
 use crate::input;
@@ -169,7 +168,7 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
     let partial = PathBuf::from(partial);
     let sink =
         std::fs::File::create(&partial).map_err(|e| Failure::unreadable(&shown, io_text(&e)))?;
-    let written = write_mcap(Source::file(file), BufWriter::new(sink), &options);
+    let written = write_mcap(input::source(file)?, BufWriter::new(sink), &options);
     let summary = match written {
         Ok(s) => s,
         Err(e) => {

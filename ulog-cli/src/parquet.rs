@@ -7,8 +7,9 @@ use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use ulog_core::export::{self, Added, Compression, Dataset, ExportErrorKind, Options};
+use ulog_core::export::{self, Added, Compression, Dataset, ExportErrorKind, LogPath, Options};
 use ulog_core::read::{ReadErrorKind, UtcClock};
+use ulog_core::store::{Downloaded, RemoteDataset, StoreErrorKind};
 use ulog_core::{LookupError, ReadError};
 
 use crate::failure::{stdout_err, Failure, Status};
@@ -25,6 +26,12 @@ use crate::progress::Progress;
 /// formats of each log; `analysis.parquet` the diagnostics of the flight analysis
 /// (`ulog analyze`, made in the same pass) and `flights.parquet` its flight statistics,
 /// one row per log.
+///
+/// `_schemas/<topic>.parquet` holds each topic's union schema over the firmware
+/// versions of the dataset (no rows), for engines that take one schema per folder.
+/// Logs may be `s3://` or `https://` URLs (an `s3://` prefix: every log below it), and
+/// the dataset an `s3://` prefix, with the standard AWS environment's credentials and
+/// endpoint; `logs.parquet` is uploaded last, so a reader never sees half a log.
 ///
 /// `log_id` is the log's XXH3 64-bit hash in 16 hex digits: a log already in the
 /// dataset is skipped, so converting into an existing dataset adds only the new logs.
@@ -60,11 +67,14 @@ use crate::progress::Progress;
 )]
 pub struct Args {
     /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) in a
-    /// directory and its subdirectories is converted.
+    /// directory and its subdirectories is converted. `s3://BUCKET/KEY` is a log, or
+    /// every log below it as a prefix; `https://…` a log.
     #[arg(required = true, value_name = "FILE_OR_DIR")]
     inputs: Vec<PathBuf>,
-    /// The dataset (a folder, made if missing; the logs it has are skipped). Default
-    /// with one log: `<log stem>/` beside it. With `--per-log`: each log goes to
+    /// The dataset (a folder, made if missing; the logs it has are skipped), or an
+    /// `s3://BUCKET/PREFIX` (written through a local staging folder, `logs.parquet`
+    /// last: a reader never sees half a log). Default with one log: `<log stem>/`
+    /// beside it. With `--per-log`: each log goes to
     /// `DIR/<log stem>/` (default: `<log stem>/` beside each log).
     #[arg(short = 'o', long = "output", value_name = "DATASET")]
     output: Option<PathBuf>,
@@ -150,13 +160,30 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let strict = jobs.len() == 1;
     // Where the logs go: one dataset, or (`--per-log`) each to its folder.
     let mut made = false;
-    let dataset = if args.per_log {
+    let target = if args.per_log {
+        if let Some(out) = args
+            .output
+            .as_deref()
+            .filter(|o| input::remote(o).is_ok_and(|r| r.is_some()))
+        {
+            return Err(Failure::about(
+                out.display(),
+                "--per-log writes local folders: name a local folder, or leave out --per-log \
+                 to write a dataset to object storage",
+            ));
+        }
         None
     } else {
         let dir = dataset_dir(args, &jobs)?;
-        made = !dir.exists();
-        Some(open_dataset(&dir, &options)?)
+        match input::remote(&dir)? {
+            Some(remote) => Some(Target::Remote(open_remote(remote, &options)?)),
+            None => {
+                made = !dir.exists();
+                Some(Target::Local(open_dataset(&dir, &options)?))
+            }
+        }
     };
+    let dataset = target.as_ref().map(Target::dataset);
 
     let total: u64 = jobs.iter().map(|j| j.size).sum();
     let progress = Progress::bytes(total, "parquet");
@@ -166,13 +193,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let sizes: Vec<u64> = jobs.iter().map(|j| j.size).collect();
     let results = ulog_core::parallel::largest_first(&sizes, available, |i| {
         let result = convert(
-            &jobs[i],
-            dataset.as_ref(),
-            &options,
-            args.utc,
-            strict,
-            &progress,
-            &stdout,
+            &jobs[i], dataset, &options, args.utc, strict, &progress, &stdout,
         );
         if let Err(Failure::Message(_, m)) = &result {
             if !strict {
@@ -189,22 +210,33 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map(|r| r.map(|r| r.unwrap_or_else(|e| match e {})))
         .collect();
     let failed = results.iter().flatten().any(Result::is_err);
-    if strict && failed && made {
-        // One log that failed leaves nothing written, as with --per-log.
-        if let Some(dataset) = &dataset {
+    if strict && failed && (made || matches!(target, Some(Target::Remote(_)))) {
+        // One log that failed leaves nothing written, as with --per-log (a dataset in
+        // a store is not written to until the end).
+        if let Some(Target::Local(dataset)) = &target {
             let _ = std::fs::remove_dir_all(dataset.dir());
         }
-    } else if let Some(dataset) = dataset {
-        let dir = dataset.dir().to_owned();
-        let logs = dataset.len();
-        dataset
-            .finish()
-            .map_err(|e| failure(&dir.display().to_string(), &e))?;
+    } else if let Some(target) = target {
+        let logs = target.dataset().len();
+        let shown = match target {
+            Target::Local(dataset) => {
+                let dir = dataset.dir().to_owned();
+                dataset
+                    .finish()
+                    .map_err(|e| failure(&dir.display().to_string(), &e))?;
+                dir.display().to_string()
+            }
+            Target::Remote(remote) => {
+                let url = remote.url();
+                remote.finish().map_err(|e| input::store_failure(&e))?;
+                url
+            }
+        };
         let mut out = io::stdout().lock();
         writeln!(
             out,
             "Writing {} ({}, {}, {}, {}, {}, {}: {logs} log{})",
-            dir.display(),
+            shown,
             export::LOGS_FILE,
             export::PARAMETERS_FILE,
             export::MESSAGES_FILE,
@@ -281,6 +313,60 @@ fn open_dataset(dir: &Path, options: &Options) -> Result<Dataset, Failure> {
     }
 }
 
+/// Where the dataset is written.
+enum Target {
+    /// A folder.
+    Local(Dataset),
+    /// An `s3://` prefix, through a local staging folder.
+    Remote(RemoteDataset),
+}
+
+impl Target {
+    fn dataset(&self) -> &Dataset {
+        match self {
+            Target::Local(dataset) => dataset,
+            Target::Remote(remote) => remote.dataset(),
+        }
+    }
+}
+
+/// The dataset under the `s3://` prefix `remote`, once no other conversion writes it
+/// (as [`open_dataset`]: says so once and waits); says how many files a conversion
+/// that died had left.
+fn open_remote(
+    remote: ulog_core::store::Remote,
+    options: &Options,
+) -> Result<RemoteDataset, Failure> {
+    let mut said = false;
+    loop {
+        match RemoteDataset::open(remote.clone(), options) {
+            Err(e) if matches!(e.kind(), StoreErrorKind::Busy { .. }) => {
+                if !said {
+                    let _ = writeln!(
+                        io::stderr(),
+                        "ulog: {e}: waiting for it to end (if none runs, remove that object)"
+                    );
+                    said = true;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(500));
+            }
+            Err(e) => return Err(input::store_failure(&e)),
+            Ok(dataset) => {
+                if dataset.removed_leftovers() > 0 {
+                    let _ = writeln!(
+                        io::stderr(),
+                        "ulog: {}: removed {} topic file(s) of logs that logs.parquet does \
+                         not list (left by a conversion that did not end)",
+                        dataset.url(),
+                        dataset.removed_leftovers()
+                    );
+                }
+                return Ok(dataset);
+            }
+        }
+    }
+}
+
 /// The dataset's folder: `-o`, or with one log `<stem>/` beside it.
 fn dataset_dir(args: &Args, jobs: &[Job]) -> Result<PathBuf, Failure> {
     match (&args.output, jobs) {
@@ -340,6 +426,8 @@ fn output_dir(input: &Path, dir: Option<&Path>) -> PathBuf {
     };
     match dir {
         Some(d) => d.join(stem),
+        // Beside a log of a store: in the current folder.
+        None if input::remote(input).is_ok_and(|r| r.is_some()) => PathBuf::from(stem),
         None => input.with_file_name(stem),
     }
 }
@@ -376,17 +464,31 @@ fn convert(
         };
         let export = match dataset {
             None => {
-                let source = ulog_core::Source::file(&job.input);
+                let source = input::source(&job.input)?;
                 export::write_parquet_with(source, &job.out, &options, advance)
                     .map(|e| (Some(e), None))
             }
-            Some(dataset) => dataset
-                .add(&job.input, options.utc.clone(), advance)
-                .map(|added| match added {
-                    Added::Written { log_id, export } => (Some(export), Some(log_id)),
-                    Added::Present { log_id } => (None, Some(log_id)),
-                    _ => (None, None),
-                }),
+            Some(dataset) => {
+                // A log of a store is copied to a temporary file first: it is hashed
+                // (its id), then read again by the pass.
+                let downloaded = match input::remote(&job.input)? {
+                    Some(remote) => {
+                        Some(Downloaded::new(&remote).map_err(|e| input::store_failure(&e))?)
+                    }
+                    None => None,
+                };
+                let log = match &downloaded {
+                    Some(d) => LogPath::named(d.path(), d.url()),
+                    None => LogPath::from(&job.input),
+                };
+                dataset
+                    .add(log, options.utc.clone(), advance)
+                    .map(|added| match added {
+                        Added::Written { log_id, export } => (Some(export), Some(log_id)),
+                        Added::Present { log_id } => (None, Some(log_id)),
+                        _ => (None, None),
+                    })
+            }
         };
         let (export, log_id) = match export {
             Ok((Some(export), log_id)) => (export, log_id),

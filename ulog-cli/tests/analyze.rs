@@ -17,6 +17,8 @@ const IDS: [&str; 5] = [
     "rc_loss",
 ];
 
+// Used by the comparisons with flight-review-rs, built only where it is.
+#[cfg_attr(not(flight_review), allow(dead_code))]
 fn ours(path: &Path) -> Value {
     let out = ulog_ok([Path::new("analyze"), Path::new("--json"), path]);
     let mut lines = out.lines();
@@ -106,6 +108,7 @@ fn theirs(path: &Path, out: &Path) -> Option<Value> {
 }
 
 /// The rows of docs/ANALYSIS.md's comparison table: (log, id) → (theirs, ours).
+#[cfg_attr(not(flight_review), allow(dead_code))]
 fn documented() -> BTreeMap<(String, String), (String, String)> {
     let doc =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/ANALYSIS.md"))

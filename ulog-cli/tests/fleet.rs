@@ -536,7 +536,9 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
             .unwrap()
             .modified()
             .unwrap();
-        if tables.iter().any(|t| rel == Path::new(t)) {
+        // The tables, and the union schemas of the topics the new logs have (widened
+        // by theirs), are written again; no topic file is.
+        if tables.iter().any(|t| rel == Path::new(t)) || rel.starts_with(export::SCHEMAS_DIR) {
             continue;
         }
         assert_eq!(&now, time, "{} was written again", rel.display());
@@ -545,8 +547,21 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
     assert!(!added.is_empty());
     assert!(
         added.iter().all(|k| k.components().count() == 2),
-        "only topic files are new"
+        "only topic files (and the union schemas of new topics) are new"
     );
+    // Each topic folder has its union schema.
+    for rel in after.keys().filter(|k| !k.starts_with(export::SCHEMAS_DIR)) {
+        if let (2, Some(folder)) = (rel.components().count(), rel.parent()) {
+            let schema = Path::new(export::SCHEMAS_DIR)
+                .join(folder)
+                .with_extension("parquet");
+            assert!(
+                after.contains_key(&schema),
+                "{} has no union schema",
+                folder.display()
+            );
+        }
+    }
 
     // A log that fails is reported; the others are added.
     let mixed = scratch.join("mixed");
@@ -625,6 +640,13 @@ fn two_conversions_at_once_both_land() {
         // The corpus's logs have no diagnostic: the table of them is empty (DuckDB
         // reads it below).
         if rel == Path::new(export::ANALYSIS_FILE) {
+            continue;
+        }
+        // A topic's union schema has no rows: its schema is what it holds.
+        if rel.starts_with(export::SCHEMAS_DIR) {
+            let file = std::fs::File::open(dir.join(rel)).unwrap();
+            let reader = ParquetRecordBatchReaderBuilder::try_new(file).expect("parquet");
+            assert!(!reader.schema().fields().is_empty(), "{}", rel.display());
             continue;
         }
         assert!(read(&dir.join(rel)).num_rows() > 0, "{}", rel.display());
@@ -803,4 +825,95 @@ fn the_readmes_analysis_queries_answer_what_ulog_analyze_says() {
     got.sort_by(|a, b| a.0.cmp(&b.0));
     flights.sort_by(|a, b| a.0.cmp(&b.0));
     assert_eq!(got, flights, "vibration and diagnostics per flight");
+}
+
+/// The logs `logs.parquet` of `dir` lists (with their topic counts), and the log ids
+/// of the topic files in its folders.
+fn listed_and_filed(dir: &Path) -> (BTreeMap<String, u64>, BTreeSet<String>) {
+    let mut listed = BTreeMap::new();
+    if dir.join("logs.parquet").exists() {
+        let logs = read(&dir.join("logs.parquet"));
+        let ids = logs.column_by_name("log_id").unwrap().as_string::<i32>();
+        let topics = logs.column_by_name("topics").unwrap();
+        let topics = topics.as_primitive::<UInt32Type>();
+        for i in 0..logs.num_rows() {
+            listed.insert(ids.value(i).to_owned(), u64::from(topics.value(i)));
+        }
+    }
+    let mut filed = BTreeSet::new();
+    for folder in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let name = folder.file_name().to_string_lossy().into_owned();
+        if !folder.path().is_dir() || name.starts_with(['_', '.']) {
+            continue;
+        }
+        for file in std::fs::read_dir(folder.path()).unwrap().flatten() {
+            let file = file.file_name().to_string_lossy().into_owned();
+            if let Some(id) = file.strip_suffix(".parquet") {
+                filed.insert(id.to_owned());
+            }
+        }
+    }
+    (listed, filed)
+}
+
+#[test]
+fn a_conversion_killed_at_any_point_then_run_again_leaves_a_consistent_dataset() {
+    let scratch = common::scratch("fleet_killed");
+    let logs = logs();
+    let whole = scratch.join("whole");
+    let started = std::time::Instant::now();
+    assert!(convert(&logs, &whole, &[]).status.success());
+    let took = started.elapsed();
+    for (i, fraction) in [0.1, 0.3, 0.5, 0.7, 0.9, 0.97].into_iter().enumerate() {
+        let dir = scratch.join(format!("killed{i}"));
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
+            .arg("parquet")
+            .args(&logs)
+            .arg("-o")
+            .arg(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(took.mul_f64(fraction));
+        let _ = child.kill();
+        let _ = child.wait();
+        // What a reader sees meanwhile: every log listed has its files.
+        let (listed, filed) = listed_and_filed(&dir);
+        for (id, topics) in &listed {
+            assert!(
+                *topics == 0 || filed.contains(id),
+                "{id} listed without files"
+            );
+        }
+        // Run again: consistent, and the dataset one conversion writes.
+        let again = convert(&logs, &dir, &[]);
+        assert!(
+            again.status.success(),
+            "{}",
+            String::from_utf8_lossy(&again.stderr)
+        );
+        let (listed, filed) = listed_and_filed(&dir);
+        let with_files: BTreeSet<String> = listed
+            .iter()
+            .filter(|(_, t)| **t > 0)
+            .map(|(id, _)| id.clone())
+            .collect();
+        assert_eq!(filed, with_files, "killed at {fraction} of the run");
+        assert_eq!(
+            files(&dir),
+            files(&whole),
+            "killed at {fraction} of the run"
+        );
+    }
+
+    // Files of a log the table does not list (a conversion killed between them and
+    // the tables) are removed by the next conversion, whatever logs it is given.
+    let dir = scratch.join("leftover");
+    assert!(convert(&logs[..1], &dir, &[]).status.success());
+    let stray = dir.join("vehicle_status").join("0123456789abcdef.parquet");
+    std::fs::create_dir_all(stray.parent().unwrap()).unwrap();
+    std::fs::write(&stray, b"PAR1").unwrap();
+    assert!(convert(&logs[..1], &dir, &[]).status.success());
+    assert!(!stray.exists());
 }

@@ -62,7 +62,7 @@
 //!   path: [`read`] (what a log holds: metadata, messages, findings), [`stream`],
 //!   [`columns`], [`typed`] (the machinery of bindings), [`write`](mod@write), `export` (feature
 //!   `parquet`), `mcap` (feature `mcap`), [`format`](mod@format) (the grammar),
-//!   `analysis` (feature `analysis`), [`parallel`], [`replay`], [`testing`], [`units`], [`track`], [`naming`] (a topic's
+//!   `analysis` (feature `analysis`), `store` (feature `store`: S3 and HTTP), [`parallel`], [`replay`], [`testing`], [`units`], [`track`], [`naming`] (a topic's
 //!   name in file and folder names).
 //!
 //! # Damage
@@ -99,6 +99,8 @@ pub mod naming;
 pub mod parallel;
 mod pass;
 pub mod replay;
+#[cfg(feature = "store")]
+pub mod store;
 mod suggest;
 pub mod testing;
 pub mod track;

@@ -100,12 +100,23 @@ fn escaped(name: &str) -> String {
 }
 
 /// The name of a dataset's folder for topic `name`: the name itself when it is plain
-/// and has no upper-case letter, else escaped (see the [module docs](self)).
+/// and has no upper-case letter, else escaped (see the [module docs](self)). A name
+/// that starts with `_` is escaped and starts with `t`: query engines skip folders
+/// whose names start with `_` (and a dataset keeps its own there: `_schemas`).
+///
+/// ```
+/// use ulog_core::naming::folder_name;
+/// assert!(folder_name("_private").starts_with("t_private~"));
+/// ```
 pub fn folder_name(name: &str) -> Cow<'_, str> {
-    if is_plain(name, true) {
+    if is_plain(name, true) && !name.starts_with('_') {
         Cow::Borrowed(name)
     } else {
-        Cow::Owned(escaped(name))
+        let escaped = escaped(name);
+        match escaped.starts_with('_') {
+            true => Cow::Owned(format!("t{escaped}")),
+            false => Cow::Owned(escaped),
+        }
     }
 }
 

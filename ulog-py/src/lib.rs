@@ -192,23 +192,20 @@ fn align<'py>(
 /// Converts the logs at `logs` into the Parquet dataset `output` (see
 /// `ulog_rs.convert`); returns one `(path, log_id, status, rows, error)` per log.
 #[pyfunction]
-#[pyo3(signature = (logs, output, topics=None, compression="zstd", threads=None))]
+#[pyo3(signature = (logs, output, topics=None, compression="zstd", threads=None, present=Vec::new()))]
 fn convert_logs(
     py: Python<'_>,
-    logs: Vec<PathBuf>,
-    output: PathBuf,
+    logs: Vec<String>,
+    output: String,
     topics: Option<Vec<String>>,
     compression: &str,
     threads: Option<usize>,
+    present: Vec<String>,
 ) -> PyResult<Vec<convert::Outcome>> {
     let threads =
         threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     guarded(|| {
-        py.detach(|| convert::convert(&logs, &output, topics, compression, threads))
-            .map_err(|e| match e.kind() {
-                ulog_core::export::ExportErrorKind::Io(_) => PyOSError::new_err(e.to_string()),
-                _ => ULogError::new_err(e.to_string()),
-            })
+        py.detach(|| convert::convert(&logs, &output, topics, compression, threads, present))
     })
 }
 
@@ -243,10 +240,26 @@ fn analyze_json(
 }
 
 /// The logs `input` names (`ulog_core::LogFile::find`): the file, or the `.ulg` and
-/// `.ulog` files of a directory and its subdirectories, sorted; `[(path, size)]`.
+/// `.ulog` files of a directory and its subdirectories, sorted; for an `s3://` URL the
+/// object, or every log below it as a prefix (`ulog_core::store::Remote::find_logs`);
+/// `[(path or URL, size)]`.
 #[pyfunction]
-fn find_logs(input: PathBuf) -> PyResult<Vec<(PathBuf, u64)>> {
-    guarded(|| LogFile::find(&input).map_err(read_error))
+fn find_logs(py: Python<'_>, input: String) -> PyResult<Vec<(String, u64)>> {
+    use ulog_core::store::Remote;
+    guarded(|| {
+        if Remote::is_url(&input) {
+            let remote = Remote::parse(&input).map_err(|e| convert::store_error(&e))?;
+            let found = py
+                .detach(|| remote.find_logs())
+                .map_err(|e| convert::store_error(&e))?;
+            return Ok(found.into_iter().map(|(r, size)| (r.url(), size)).collect());
+        }
+        let found = LogFile::find(&input).map_err(read_error)?;
+        Ok(found
+            .into_iter()
+            .map(|(p, size)| (p.to_string_lossy().into_owned(), size))
+            .collect())
+    })
 }
 
 /// The unit of field `path` of `topic` by PX4's naming (`ulog_core::units::unit_of`),
@@ -353,6 +366,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(unit_of, m)?)?;
     m.add_function(wrap_pyfunction!(find_logs, m)?)?;
     m.add_function(wrap_pyfunction!(convert_logs, m)?)?;
+    m.add_class::<convert::DatasetWriter>()?;
     m.add_function(wrap_pyfunction!(analyze_json, m)?)?;
     m.add_function(wrap_pyfunction!(align, m)?)?;
     m.add_function(wrap_pyfunction!(arrow_batches, m)?)?;

@@ -43,3 +43,88 @@ def pytest_report_header(config):
 @pytest.fixture
 def sample_log():
     return OWN / "sample_appended_multiple.ulg"
+
+
+@pytest.fixture(scope="module")
+def s3_server():
+    """A real S3-compatible server (moto's, from PyPI) on a free port of 127.0.0.1, with
+    the standard AWS environment pointing at it; yields its endpoint URL."""
+    import socket
+    import subprocess
+    import sys
+    import time
+
+    try:
+        import boto3  # noqa: F401
+        import moto.server  # noqa: F401
+    except ImportError:
+        missing("moto[server] and boto3 (an S3 server on 127.0.0.1) are not installed")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = subprocess.Popen(
+        [sys.executable, "-m", "moto.server", "-H", "127.0.0.1", "-p", str(port)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )
+    endpoint = "http://127.0.0.1:{}".format(port)
+    env = {
+        "AWS_ENDPOINT_URL": endpoint, "AWS_ACCESS_KEY_ID": "testing",
+        "AWS_SECRET_ACCESS_KEY": "testing", "AWS_DEFAULT_REGION": "us-east-1",
+    }
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        deadline = time.time() + 60
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                assert time.time() < deadline, "moto's server did not start"
+                time.sleep(0.1)
+        yield endpoint
+    finally:
+        server.kill()
+        server.wait()
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def upload(bucket, prefix, paths):
+    """Puts `paths` into s3://bucket/prefix/ with boto3 (the server of `s3_server`)."""
+    import boto3
+
+    client = boto3.client("s3", endpoint_url=os.environ["AWS_ENDPOINT_URL"])
+    try:
+        client.create_bucket(Bucket=bucket)
+    except client.exceptions.BucketAlreadyOwnedByYou:
+        pass
+    for p in paths:
+        client.upload_file(str(p), bucket, "{}/{}".format(prefix, pathlib.Path(p).name))
+
+
+def table_rows(table):
+    """A pyarrow table's rows as dicts, NaN made comparable (NaN != NaN)."""
+
+    def plain(v):
+        if isinstance(v, float) and v != v:
+            return "NaN"
+        if isinstance(v, list):
+            return [plain(x) for x in v]
+        if isinstance(v, dict):
+            return {k: plain(x) for k, x in v.items()}
+        return v
+
+    return [plain(r) for r in table.to_pylist()]
+
+
+def dataset_files(root):
+    """The files of a dataset folder by relative path (a Spark run's staging left out)."""
+    root = pathlib.Path(root)
+    return sorted(
+        p.relative_to(root).as_posix() for p in root.rglob("*")
+        if p.is_file() and not p.relative_to(root).as_posix().startswith("_staging/")
+    )

@@ -67,8 +67,7 @@ pub(super) fn run(
         horizon_us: (args.horizon * 1e6).round() as u64,
         window_from_start: true,
     };
-    let file =
-        std::fs::File::open(&args.file).map_err(|e| Failure::unreadable(&name, io_text(&e)))?;
+    let file = crate::input::reader(&name, &args.file)?;
     let tracks = groups.iter().map(|(t, _)| t.clone()).collect();
     let mut stream =
         AlignStream::new(file, &grid, tracks, options).map_err(|e| about(e.to_string()))?;

@@ -80,6 +80,10 @@ const LOG_ID_RULE: &str = "xxh3-64";
 ///   (a dataset written by an earlier version has neither: its logs have no rows
 ///   there).
 ///
+/// - [`SCHEMAS_DIR`](super::SCHEMAS_DIR)`/<topic>.parquet`: each topic's union schema
+///   over all its files ([`union_schema`](super::union_schema)), no rows, widened as
+///   logs are added: for engines that take one schema for a folder of files.
+///
 /// `log_id` is the log's XXH3 64-bit hash in 16 hex digits: the same
 /// log has the same id wherever it is, and converting it into a dataset that has it
 /// already does nothing
@@ -99,7 +103,9 @@ const LOG_ID_RULE: &str = "xxh3-64";
 /// `Dataset` of the same folder) gets [`ExportErrorKind::Busy`] meanwhile, and can
 /// open it once the first is done. Every file is written under a temporary name of
 /// its writer's own (`….<pid>-<n>.partial`) and renamed when done; the temporary files
-/// of a conversion that died are removed by the next `open`.
+/// of a conversion that died are removed by the next `open`, and so are the topic
+/// files of logs the table of logs does not list (a conversion killed after a log's
+/// files were renamed into place and before its tables were written).
 ///
 /// ```
 /// use ulog_core::export::{Added, Dataset, Options};
@@ -136,6 +142,9 @@ struct State {
     ids: BTreeSet<String>,
     /// Each table's rows by log.
     tables: [BTreeMap<String, Vec<RecordBatch>>; 6],
+    /// The logs whose topic files this conversion wrote or moved in: their topics'
+    /// union schemas are brought up to date by `finish`.
+    new: BTreeSet<String>,
 }
 
 /// What [`Dataset::add`] did.
@@ -154,6 +163,13 @@ pub enum Added {
     Present {
         /// Its id.
         log_id: String,
+    },
+    /// The log's files were moved here from another dataset ([`Dataset::absorb`]).
+    Moved {
+        /// Its id.
+        log_id: String,
+        /// Its topic files moved.
+        files: usize,
     },
 }
 
@@ -178,6 +194,7 @@ impl Dataset {
             }
         }
         state.ids = state.tables[0].keys().cloned().collect();
+        remove_unlisted(&dir, &state.ids)?;
         Ok(Dataset {
             dir,
             options: options.clone(),
@@ -194,6 +211,11 @@ impl Dataset {
     /// The number of logs in the dataset (those being added included).
     pub fn len(&self) -> usize {
         self.lock().ids.len()
+    }
+
+    /// The ids of its logs (those being added included), sorted.
+    pub fn log_ids(&self) -> Vec<String> {
+        self.lock().ids.iter().cloned().collect()
     }
 
     /// Whether the dataset has no log.
@@ -215,12 +237,13 @@ impl Dataset {
     /// `utc`: the log's clock for a column `timestamp_utc` ([`Options::utc`]), if wanted
     /// (the pass meets the GPS time only as it goes, after rows are written: take it
     /// from [`ULog::utc`] first).
-    pub fn add(
+    pub fn add<'p>(
         &self,
-        path: &Path,
+        log: impl Into<LogPath<'p>>,
         utc: Option<UtcClock>,
         progress: impl FnMut(u64),
     ) -> Result<Added> {
+        let LogPath { path, name } = log.into();
         let (log_id, size) = log_id(path)?;
         if !self.lock().ids.insert(log_id.clone()) {
             return Ok(Added::Present { log_id });
@@ -245,7 +268,7 @@ impl Dataset {
         );
         let origin = Origin {
             log_id: log_id.clone(),
-            path: path.display().to_string(),
+            path: name.map_or_else(|| path.display().to_string(), str::to_owned),
             size,
             read,
         };
@@ -265,6 +288,7 @@ impl Dataset {
                 for (i, batch) in tables.0.into_iter().enumerate() {
                     state.tables[i].insert(log_id.clone(), vec![batch]);
                 }
+                state.new.insert(log_id.clone());
                 Ok(Added::Written { log_id, export })
             }
             Ok((_, None)) => unreachable!("a dataset's export gives the log's tables"),
@@ -275,9 +299,90 @@ impl Dataset {
         }
     }
 
-    /// Writes the four tables: the rows they had and those of the logs added.
+    /// Takes the logs of `ids` as present: [`Dataset::add`] then skips them
+    /// ([`Added::Present`]) without converting them. For a dataset made to be
+    /// [absorbed](Dataset::absorb) into another that has them (a Spark executor's).
+    pub fn assume_present(&self, ids: impl IntoIterator<Item = String>) {
+        self.lock().ids.extend(ids);
+    }
+
+    /// Adds the logs of the dataset in the folder `other` (converted elsewhere: by a
+    /// Spark executor, on another machine, with the same options) that this one
+    /// lacks: their topic files are moved here (renamed, or copied then removed
+    /// across file systems), and their rows of the tables taken, to be written by
+    /// [`Dataset::finish`] as those of logs [added](Dataset::add) are. A log this
+    /// dataset has is left where it is ([`Added::Present`]). `other` must not be in
+    /// use (its lock is not taken): it is a dataset whose conversion has finished.
+    ///
+    /// ```
+    /// use ulog_core::export::{Added, Dataset, Options};
+    /// let root = std::env::temp_dir().join(format!("ulog-absorb-doc-{}", std::process::id()));
+    /// let log = root.join("sample.ulg");
+    /// std::fs::create_dir_all(&root)?;
+    /// std::fs::write(&log, ulog_core::testing::sample_log())?;
+    ///
+    /// // Converted elsewhere…
+    /// let part = Dataset::open(root.join("part"), &Options::default())?;
+    /// part.add(&log, None, |_| {})?;
+    /// part.finish()?;
+    /// // …then taken into the dataset.
+    /// let dataset = Dataset::open(root.join("dataset"), &Options::default())?;
+    /// let moved = dataset.absorb(root.join("part"))?;
+    /// assert!(matches!(moved[..], [Added::Moved { files, .. }] if files > 0));
+    /// dataset.finish()?;
+    /// assert!(root.join("dataset/esc_status").read_dir()?.next().is_some());
+    /// # std::fs::remove_dir_all(&root)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn absorb(&self, other: impl AsRef<Path>) -> Result<Vec<Added>> {
+        let other = other.as_ref();
+        let mut taken: [BTreeMap<String, Vec<RecordBatch>>; 6] = Default::default();
+        for (i, (name, schema)) in tables().into_iter().enumerate() {
+            let path = other.join(name);
+            if path.exists() {
+                taken[i] = read_table(&path, &schema, self.options.flatten)?;
+            }
+        }
+        let ids: Vec<String> = taken[0].keys().cloned().collect();
+        let mut files = topic_files(other)?;
+        let mut added = Vec::with_capacity(ids.len());
+        for log_id in ids {
+            if !self.lock().ids.insert(log_id.clone()) {
+                added.push(Added::Present { log_id });
+                continue;
+            }
+            let mine = files.remove(&log_id).unwrap_or_default();
+            let count = mine.len();
+            let moved = mine.iter().try_for_each(|(folder, from)| {
+                let to = self.dir.join(folder);
+                std::fs::create_dir_all(&to).map_err(|e| ExportError::io(e, &to))?;
+                move_file(from, &to.join(format!("{log_id}.parquet")))
+            });
+            if let Err(e) = moved {
+                self.lock().ids.remove(&log_id);
+                return Err(e);
+            }
+            let mut state = self.lock();
+            for (i, table) in taken.iter_mut().enumerate() {
+                if let Some(rows) = table.remove(&log_id) {
+                    state.tables[i].insert(log_id.clone(), rows);
+                }
+            }
+            state.new.insert(log_id.clone());
+            added.push(Added::Moved {
+                log_id,
+                files: count,
+            });
+        }
+        Ok(added)
+    }
+
+    /// Writes the union schemas of the topics of the logs added
+    /// ([`SCHEMAS_DIR`](super::SCHEMAS_DIR)), then the tables: the rows they had and
+    /// those of the logs added, the table of logs last.
     pub fn finish(self) -> Result<()> {
         let state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        write_union_schemas(&self.dir, &state.new, self.options.compression)?;
         let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
         let mut result = Ok(());
         for ((name, schema), rows) in tables().into_iter().zip(&state.tables) {
@@ -306,6 +411,185 @@ impl Dataset {
 
     fn lock(&self) -> std::sync::MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// Brings up to date the union schema of each topic folder in which the logs `new`
+/// have files: the union of the schema it had and theirs (of every file of the
+/// folder, for a dataset written before there were union schemas). Written under a
+/// temporary name and renamed, before the tables: a union may be wider than the logs
+/// the table of logs lists (a conversion that died after it), never narrower.
+fn write_union_schemas(
+    dir: &Path,
+    new: &BTreeSet<String>,
+    compression: super::Compression,
+) -> Result<()> {
+    if new.is_empty() {
+        return Ok(());
+    }
+    let schemas_dir = dir.join(super::SCHEMAS_DIR);
+    let mut by_folder: BTreeMap<String, Vec<PathBuf>> = BTreeMap::new();
+    for (id, files) in topic_files(dir)? {
+        for (folder, path) in files {
+            if new.contains(&id) {
+                by_folder.entry(folder).or_default().push(path);
+            }
+        }
+    }
+    for (folder, new_files) in by_folder {
+        let published = schemas_dir.join(format!("{folder}.parquet"));
+        let mut schemas = Vec::new();
+        if published.exists() {
+            schemas.push(super::union::file_schema(&published)?);
+            for path in &new_files {
+                schemas.push(super::union::file_schema(path)?);
+            }
+        } else {
+            let all = std::fs::read_dir(dir.join(&folder)).map_err(|e| ExportError::io(e, dir))?;
+            let mut paths: Vec<PathBuf> = all
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| {
+                    p.file_name()
+                        .and_then(|n| n.to_str())
+                        .is_some_and(|n| topic_file_id(n).is_some())
+                })
+                .collect();
+            paths.sort();
+            for path in &paths {
+                schemas.push(super::union::file_schema(path)?);
+            }
+        }
+        let topic = schemas
+            .iter()
+            .find_map(|s| {
+                let m = s.metadata();
+                m.get(super::union::TOPIC_KEY)
+                    .or_else(|| m.get("ulog.topic"))
+                    .cloned()
+            })
+            .unwrap_or_else(|| folder.clone());
+        let union = super::union_schema(schemas.iter(), &topic);
+        // The metadata as the file's key-value metadata (sorted), not inside the
+        // encoded Arrow schema, whose map has no order: the file is the same from run
+        // to run. Readers give it back as the schema's metadata.
+        let props = super::writer_properties(&union, compression);
+        let union = Arc::new(Schema::new(union.fields().clone()));
+        std::fs::create_dir_all(&schemas_dir).map_err(|e| ExportError::io(e, &schemas_dir))?;
+        let partial = schemas_dir.join(partial_name(&format!("{folder}.parquet")));
+        let written = (|| {
+            let file = File::create(&partial).map_err(|e| ExportError::io(e, &published))?;
+            let writer =
+                ArrowWriter::try_new(std::io::BufWriter::new(file), union.clone(), Some(props))
+                    .map_err(|e| write_error(&published, e))?;
+            writer.close().map_err(|e| write_error(&published, e))?;
+            std::fs::rename(&partial, &published).map_err(|e| ExportError::io(e, &published))
+        })();
+        if written.is_err() {
+            let _ = std::fs::remove_file(&partial);
+        }
+        written?;
+    }
+    Ok(())
+}
+
+/// Whether `name` is a log's topic file, `<log_id>.parquet`: its id.
+fn topic_file_id(name: &str) -> Option<&str> {
+    let id = name.strip_suffix(".parquet")?;
+    (id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit())).then_some(id)
+}
+
+/// The topic files in the dataset folder `dir` (`<folder>/<log_id>.parquet`), by
+/// log: each one's folder name and path. Folders whose names start with `_` or `.`
+/// are not topics (a Spark conversion's staging).
+fn topic_files(dir: &Path) -> Result<BTreeMap<String, Vec<(String, PathBuf)>>> {
+    let mut files: BTreeMap<String, Vec<(String, PathBuf)>> = BTreeMap::new();
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(files),
+        Err(e) => return Err(ExportError::io(e, dir)),
+    };
+    let mut folders: Vec<_> = entries
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .filter(|(name, _)| !name.starts_with(['_', '.']))
+        .collect();
+    folders.sort();
+    for (folder, path) in folders {
+        let inner = std::fs::read_dir(&path).map_err(|e| ExportError::io(e, &path))?;
+        for entry in inner.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if let Some(id) = topic_file_id(&name) {
+                files
+                    .entry(id.to_owned())
+                    .or_default()
+                    .push((folder.clone(), entry.path()));
+            }
+        }
+    }
+    Ok(files)
+}
+
+/// Removes the topic files of logs the table of logs does not list (`ids`): a
+/// conversion killed after it wrote a log's files and before its tables leaves
+/// them, and a reader of a topic's folder would see rows of a log the dataset does
+/// not have.
+fn remove_unlisted(dir: &Path, ids: &BTreeSet<String>) -> Result<()> {
+    for (id, files) in topic_files(dir)? {
+        if !ids.contains(&id) {
+            for (_, path) in files {
+                std::fs::remove_file(&path).map_err(|e| ExportError::io(e, &path))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Moves the file `from` to `to`: a rename, or across file systems a copy under a
+/// temporary name renamed into place, then the original removed.
+fn move_file(from: &Path, to: &Path) -> Result<()> {
+    if std::fs::rename(from, to).is_ok() {
+        return Ok(());
+    }
+    let name = to
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let partial = to.with_file_name(partial_name(&name));
+    std::fs::copy(from, &partial).map_err(|e| ExportError::io(e, &partial))?;
+    std::fs::rename(&partial, to).map_err(|e| {
+        let _ = std::fs::remove_file(&partial);
+        ExportError::io(e, to)
+    })?;
+    std::fs::remove_file(from).map_err(|e| ExportError::io(e, from))
+}
+
+/// The file of a log to add ([`Dataset::add`]), and the name [`LOGS_FILE`]'s `path`
+/// gives it: its path, or another ([`LogPath::named`]).
+#[derive(Debug, Clone, Copy)]
+pub struct LogPath<'a> {
+    path: &'a Path,
+    name: Option<&'a str>,
+}
+
+impl<'a> LogPath<'a> {
+    /// The file at `path`, recorded as `name` (a log downloaded from object storage
+    /// is recorded by its URL, not by the temporary file read).
+    pub fn named(path: &'a Path, name: &'a str) -> LogPath<'a> {
+        LogPath {
+            path,
+            name: Some(name),
+        }
+    }
+}
+
+impl<'a, P: AsRef<Path> + ?Sized> From<&'a P> for LogPath<'a> {
+    fn from(path: &'a P) -> LogPath<'a> {
+        LogPath {
+            path: path.as_ref(),
+            name: None,
+        }
     }
 }
 

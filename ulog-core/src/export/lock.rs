@@ -35,7 +35,7 @@ pub(super) struct DatasetLock {
 
 /// Who holds a lock, as its file says.
 #[derive(Debug, Clone, PartialEq, Eq)]
-struct Owner {
+pub(crate) struct Owner {
     pid: u32,
     host: String,
     /// When the process started, in clock ticks since boot (Linux), if known.
@@ -43,7 +43,7 @@ struct Owner {
 }
 
 impl Owner {
-    fn me() -> Owner {
+    pub(crate) fn me() -> Owner {
         let pid = std::process::id();
         Owner {
             pid,
@@ -52,7 +52,7 @@ impl Owner {
         }
     }
 
-    fn text(&self) -> String {
+    pub(crate) fn text(&self) -> String {
         let mut s = format!("pid {}\nhost {}\n", self.pid, self.host);
         if let Some(t) = self.start {
             s.push_str(&format!("start {t}\n"));
@@ -60,7 +60,7 @@ impl Owner {
         s
     }
 
-    fn parse(text: &str) -> Option<Owner> {
+    pub(crate) fn parse(text: &str) -> Option<Owner> {
         let mut owner = Owner {
             pid: 0,
             host: String::new(),
@@ -81,7 +81,7 @@ impl Owner {
 
     /// Whether the owner is known to be gone: a process of this machine that no
     /// longer runs (Linux only: elsewhere nothing is known).
-    fn is_gone(&self) -> bool {
+    pub(crate) fn is_gone(&self) -> bool {
         if self.host != host() || !Path::new("/proc/self").exists() {
             return false;
         }

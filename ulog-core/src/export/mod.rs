@@ -69,12 +69,13 @@ mod files;
 mod flights;
 mod lazy_file;
 mod leaves;
-mod lock;
+pub(crate) mod lock;
 mod metadata;
 mod rows;
 mod stream;
 #[cfg(test)]
 mod tests;
+mod union;
 
 pub use arrow_array;
 pub use arrow_schema;
@@ -83,12 +84,15 @@ pub use parquet;
 use arrow_array::RecordBatch;
 use arrow_schema::SchemaRef;
 
-pub use dataset::{Added, Dataset, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE};
+pub use dataset::{
+    Added, Dataset, LogPath, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE,
+};
 pub use files::{write_topic, writer_properties, Export, Skipped, Written};
 pub use flights::{ANALYSIS_FILE, FLIGHTS_FILE};
 pub use lock::LOCK_FILE;
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
 pub use stream::{write_parquet, write_parquet_with};
+pub use union::{union_schema, CONFLICTS_KEY, SCHEMAS_DIR};
 
 use crate::access::field::FieldReader;
 use crate::access::topic::Topic;

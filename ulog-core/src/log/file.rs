@@ -146,6 +146,20 @@ impl LogFile {
         })
     }
 
+    /// A log already in memory (fetched from object storage, received over a
+    /// network), named `path` (a URL, or any name errors should give).
+    ///
+    /// ```
+    /// let file = ulog_core::LogFile::from_bytes(ulog_core::testing::sample_log(), "sample.ulg");
+    /// assert!(file.parse().is_ok());
+    /// ```
+    pub fn from_bytes(bytes: Vec<u8>, path: impl Into<PathBuf>) -> LogFile {
+        LogFile {
+            bytes: Bytes::Read(bytes),
+            path: path.into(),
+        }
+    }
+
     /// The file's bytes.
     pub fn bytes(&self) -> &[u8] {
         match &self.bytes {

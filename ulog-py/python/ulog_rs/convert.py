@@ -13,15 +13,29 @@ Converted.__doc__ = """What became of one log: ``status`` is ``written``, ``pres
 dataset had it: nothing written) or ``failed`` (``error`` says why; the log left
 nothing of its own)."""
 
-def _logs(inputs):
-    """The log files of `inputs`: glob patterns expanded, then each path as the
-    ``ulog`` commands take it (``LogFile::find``: a file, or the ``.ulg``/``.ulog``
-    files of a directory and its subdirectories)."""
+_URL_SCHEMES = ("s3://", "https://", "http://")
+
+
+def is_url(text):
+    """Whether ``text`` names an object of a store (``s3://``, ``https://``,
+    ``http://``) rather than a local path."""
+    return isinstance(text, str) and text.lower().startswith(_URL_SCHEMES)
+
+
+def find_logs(inputs):
+    """The logs of ``inputs``, each with its size: glob patterns expanded, then each
+    path as the ``ulog`` commands take it (``LogFile::find``: a file, or the
+    ``.ulg``/``.ulog`` files of a directory and its subdirectories); an ``s3://`` URL
+    names the object, or every log below it as a prefix; an ``http(s)://`` URL one
+    object."""
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
     found = []
     for item in inputs:
         item = os.fspath(item)
+        if is_url(item):
+            found.extend(_core.find_logs(item))
+            continue
         matches = [item] if os.path.exists(item) else sorted(glob.glob(item, recursive=True))
         if not matches:
             raise FileNotFoundError("{}: no such file, directory or matching path".format(item))
@@ -31,14 +45,20 @@ def _logs(inputs):
                 raise FileNotFoundError(
                     "{}: no .ulg or .ulog files in this directory or its subdirectories".format(path)
                 )
-            found.extend(os.fspath(p) for p, _ in logs)
+            found.extend(logs)
     return found
 
 
+def _logs(inputs):
+    return [path for path, _ in find_logs(inputs)]
+
+
 def convert(inputs, output, topics=None, compression="zstd", threads=None):
-    """Converts logs (paths, directories, glob patterns) into the Parquet dataset in
-    the folder ``output`` (made if missing; a dataset there is added to), several logs
-    at once on up to ``threads`` threads (default: every core).
+    """Converts logs (paths, directories, glob patterns, ``s3://`` objects or
+    prefixes, ``http(s)://`` objects) into the Parquet dataset in the folder (or under
+    the ``s3://`` prefix) ``output`` (made if missing; a dataset there is added to),
+    several logs at once on up to ``threads`` threads (default: every core). S3
+    credentials and endpoint come from the standard AWS environment.
 
     :param topics: only these topics (a log with none of them is skipped)
     :param compression: ``"zstd"`` (``ulog parquet``'s default), ``"snappy"`` or
@@ -51,5 +71,6 @@ def convert(inputs, output, topics=None, compression="zstd", threads=None):
     if compression not in ("zstd", "snappy", "none"):
         raise ValueError("compression {!r}: one of 'zstd', 'snappy', 'none'".format(compression))
     topics = None if topics is None else [topics] if isinstance(topics, str) else list(topics)
-    done = _core.convert_logs(logs, os.fspath(output), topics, compression, threads)
+    output = output if is_url(output) else os.fspath(output)
+    done = _core.convert_logs(logs, output, topics, compression, threads)
     return [Converted(*d) for d in done]
