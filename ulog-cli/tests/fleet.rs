@@ -49,24 +49,6 @@ fn read(path: &Path) -> RecordBatch {
     batch
 }
 
-/// Every file under `dir` with its bytes, by path relative to `dir`.
-fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_owned()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).expect("read dir") {
-            let p = e.expect("entry").path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).expect("under dir").to_owned();
-                out.insert(rel, std::fs::read(&p).expect("read"));
-            }
-        }
-    }
-    out
-}
-
 /// An information value as text.
 fn info(log: &ULog<'_>, key: &str) -> Option<String> {
     log.info_value(key)
@@ -494,14 +476,18 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
     let again = scratch.join("again");
     assert!(convert(&logs, &once, &[]).status.success());
     assert!(convert(&logs, &again, &["-j", "1"]).status.success());
-    let all = files(&once);
-    assert_eq!(all, files(&again), "the same logs give the same files");
+    let all = common::files(&once);
+    assert_eq!(
+        all,
+        common::files(&again),
+        "the same logs give the same files"
+    );
 
     // A few, then the rest: the files of the first are not written again, and the
     // dataset ends as the one written at once.
     let grown = scratch.join("grown");
     assert!(convert(first, &grown, &[]).status.success());
-    let before = files(&grown);
+    let before = common::files(&grown);
     let mut times = BTreeMap::new();
     for rel in before.keys() {
         let m = std::fs::metadata(grown.join(rel))
@@ -521,7 +507,7 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
         first.len(),
         "{stdout}"
     );
-    let after = files(&grown);
+    let after = common::files(&grown);
     assert_eq!(after, all, "the grown dataset is the one written at once");
     let tables = [
         "logs.parquet",
@@ -594,7 +580,7 @@ fn converting_twice_gives_the_same_bytes_and_adding_a_log_adds_its_files() {
 
 /// Every file under `dir` whose name ends in `suffix`.
 fn ending_in(dir: &Path, suffix: &str) -> Vec<PathBuf> {
-    files(dir)
+    common::files(dir)
         .into_keys()
         .filter(|p| p.to_string_lossy().ends_with(suffix))
         .collect()
@@ -634,7 +620,11 @@ fn two_conversions_at_once_both_land() {
     }
     assert!(ending_in(&dir, ".partial").is_empty());
     assert!(!dir.join(export::LOCK_FILE).exists());
-    assert_eq!(files(&dir), files(&single), "the dataset of one conversion");
+    assert_eq!(
+        common::files(&dir),
+        common::files(&single),
+        "the dataset of one conversion"
+    );
     let parquet = ending_in(&dir, ".parquet");
     for rel in &parquet {
         // The corpus's logs have no diagnostic: the table of them is empty (DuckDB
@@ -696,7 +686,7 @@ fn two_conversions_at_once_both_land() {
         "{stderr}"
     );
     assert!(!left.exists(), "the leftover is removed");
-    assert_eq!(files(&held), files(&single));
+    assert_eq!(common::files(&held), common::files(&single));
 }
 
 #[test]
@@ -901,8 +891,8 @@ fn a_conversion_killed_at_any_point_then_run_again_leaves_a_consistent_dataset()
             .collect();
         assert_eq!(filed, with_files, "killed at {fraction} of the run");
         assert_eq!(
-            files(&dir),
-            files(&whole),
+            common::files(&dir),
+            common::files(&whole),
             "killed at {fraction} of the run"
         );
     }

@@ -16,7 +16,6 @@
 
 mod common;
 
-use std::collections::BTreeMap;
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -158,28 +157,6 @@ fn ok(out: &Output, what: &str) {
     );
 }
 
-/// Every file below `dir`, by path relative to it, with its bytes.
-fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_owned()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).expect("read dir") {
-            let p = e.expect("entry").path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p
-                    .strip_prefix(dir)
-                    .unwrap()
-                    .to_string_lossy()
-                    .replace('\\', "/");
-                out.insert(rel, std::fs::read(&p).expect("read"));
-            }
-        }
-    }
-    out
-}
-
 #[test]
 #[cfg_attr(
     not(s3_server),
@@ -282,7 +259,7 @@ fn every_way_of_reading_a_log_reads_s3_and_http_urls_as_files() {
                     })
                     .collect();
                 ok(&server.ulog(&args), &format!("{args:?}"));
-                outputs.push(files(&out_dir));
+                outputs.push(common::files(&out_dir));
             }
             assert!(!outputs[0].is_empty(), "{command:?} wrote nothing");
             let (here, there) = (&outputs[0], &outputs[1]);
@@ -298,7 +275,8 @@ fn every_way_of_reading_a_log_reads_s3_and_http_urls_as_files() {
                     .into_bytes();
                 assert!(
                     *bytes == there[rel] || *bytes == there_bytes,
-                    "{command:?} {stem}: {rel} differs"
+                    "{command:?} {stem}: {} differs",
+                    rel.display()
                 );
             }
         }
@@ -387,7 +365,7 @@ fn a_dataset_written_to_s3_is_the_local_one_as_pyarrow_reads_it() {
     assert_eq!(compared["differ"], Json::Array(vec![]), "{compared}");
     assert_eq!(
         compared["compared"].as_u64(),
-        Some(files(&local).len() as u64)
+        Some(common::files(&local).len() as u64)
     );
     // logs.path names each log's URL.
     let mut paths: Vec<String> = compared["paths"]

@@ -18,6 +18,17 @@ def missing(reason):
 OWN = ROOT / "tests" / "corpus" / "files"
 
 
+def ulog_binary():
+    """The `ulog` binary cargo built (debug, else release), else one on the PATH."""
+    import shutil
+
+    for profile in ("debug", "release"):
+        exe = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / profile / "ulog"
+        if exe.exists():
+            return exe
+    return shutil.which("ulog")
+
+
 def full_corpus():
     env = os.environ.get("ULOG_CORPUS")
     path = pathlib.Path(env) if env else ROOT.parent / "shared" / "corpus"

@@ -4,7 +4,6 @@ every log."""
 
 import os
 import pathlib
-import shutil
 import subprocess
 
 import pytest
@@ -12,15 +11,7 @@ import pytest
 pq = pytest.importorskip("pyarrow.parquet")
 import ulog_rs
 
-from conftest import OWN, ROOT, missing
-
-
-def ulog_binary():
-    for profile in ("debug", "release"):
-        exe = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / profile / "ulog"
-        if exe.exists():
-            return exe
-    return shutil.which("ulog")
+from conftest import OWN, missing, ulog_binary
 
 
 def files(root):

@@ -23,7 +23,7 @@ import pytest
 pq = pytest.importorskip("pyarrow.parquet")
 import ulog_rs.spark
 
-from conftest import ROOT, corpus_logs, dataset_files, missing, table_rows, upload
+from conftest import ROOT, corpus_logs, dataset_files, missing, table_rows, ulog_binary, upload
 
 try:
     import pyspark  # noqa: F401
@@ -36,14 +36,6 @@ def need_spark():
         missing("pyspark is not installed (pip install './ulog-py[spark]'; Java 17 or newer)")
     if shutil.which("java") is None:
         missing("java is not installed (Spark runs on Java 17 or newer)")
-
-
-def ulog_binary():
-    for profile in ("debug", "release"):
-        exe = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / profile / "ulog"
-        if exe.exists():
-            return exe
-    return shutil.which("ulog")
 
 
 LOGS = corpus_logs()
