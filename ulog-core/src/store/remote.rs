@@ -447,3 +447,47 @@ fn store_of(scheme: &str, authority: &str, base: &str) -> Result<Arc<dyn ObjectS
     stores.insert(base.to_owned(), store.clone());
     Ok(store)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn urls_and_paths_are_told_apart() {
+        assert!(matches!(Location::parse("a/b.ulg"), Ok(Location::Local(_))));
+        let Ok(Location::Remote(r)) = Location::parse("S3://fleet/a/b.ulg") else {
+            panic!("an s3 URL")
+        };
+        assert_eq!(
+            (r.url(), r.name()),
+            ("s3://fleet/a/b.ulg".to_owned(), "b.ulg")
+        );
+        assert_eq!(r.join("x/y").url(), "s3://fleet/a/b.ulg/x/y");
+        assert!(Remote::parse("s3:///key").is_err());
+    }
+
+    /// A request made from inside another async runtime (a user's) blocks that thread
+    /// until it is answered, instead of panicking as `Runtime::block_on` would; a
+    /// server that is not there is an error, not a panic.
+    #[test]
+    fn requests_work_from_inside_another_runtime() {
+        let theirs = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a runtime");
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .and_then(|l| l.local_addr())
+            .expect("a free port")
+            .port();
+        let result = theirs.block_on(async move {
+            Remote::parse(&format!("http://127.0.0.1:{port}/x.ulg"))
+                .expect("an http URL")
+                .size()
+        });
+        let e = result.expect_err("nothing listens there");
+        assert_eq!(*e.kind(), StoreErrorKind::Request);
+        assert!(e
+            .to_string()
+            .starts_with(&format!("http://127.0.0.1:{port}/x.ulg: ")));
+    }
+}
