@@ -142,9 +142,10 @@ struct State {
     ids: BTreeSet<String>,
     /// Each table's rows by log.
     tables: [BTreeMap<String, Vec<RecordBatch>>; 6],
-    /// The logs whose topic files this conversion wrote or moved in: their topics'
-    /// union schemas are brought up to date by `finish`.
-    new: BTreeSet<String>,
+    /// The topic files this conversion wrote or moved in, by topic folder: those
+    /// topics' union schemas are brought up to date by `finish` (from these files,
+    /// without a walk of the dataset).
+    new: BTreeMap<String, Vec<PathBuf>>,
 }
 
 /// What [`Dataset::add`] did.
@@ -288,7 +289,17 @@ impl Dataset {
                 for (i, batch) in tables.0.into_iter().enumerate() {
                     state.tables[i].insert(log_id.clone(), vec![batch]);
                 }
-                state.new.insert(log_id.clone());
+                for written in &export.files {
+                    let folder = written.path.parent().and_then(Path::file_name);
+                    if let Some(folder) = folder {
+                        let folder = folder.to_string_lossy().into_owned();
+                        state
+                            .new
+                            .entry(folder)
+                            .or_default()
+                            .push(written.path.clone());
+                    }
+                }
                 Ok(Added::Written { log_id, export })
             }
             Ok((_, None)) => unreachable!("a dataset's export gives the log's tables"),
@@ -353,10 +364,14 @@ impl Dataset {
             }
             let mine = files.remove(&log_id).unwrap_or_default();
             let count = mine.len();
+            let mut placed = Vec::with_capacity(count);
             let moved = mine.iter().try_for_each(|(folder, from)| {
                 let to = self.dir.join(folder);
                 std::fs::create_dir_all(&to).map_err(|e| ExportError::io(e, &to))?;
-                move_file(from, &to.join(format!("{log_id}.parquet")))
+                let to = to.join(format!("{log_id}.parquet"));
+                move_file(from, &to)?;
+                placed.push((folder.clone(), to));
+                Ok(())
             });
             if let Err(e) = moved {
                 self.lock().ids.remove(&log_id);
@@ -368,7 +383,9 @@ impl Dataset {
                     state.tables[i].insert(log_id.clone(), rows);
                 }
             }
-            state.new.insert(log_id.clone());
+            for (folder, path) in placed {
+                state.new.entry(folder).or_default().push(path);
+            }
             added.push(Added::Moved {
                 log_id,
                 files: count,
@@ -414,38 +431,27 @@ impl Dataset {
     }
 }
 
-/// Brings up to date the union schema of each topic folder in which the logs `new`
-/// have files: the union of the schema it had and theirs (of every file of the
+/// Brings up to date the union schema of each topic folder of `new` (the files this
+/// conversion put there, by folder): the union of the schema it had and theirs (of every file of the
 /// folder, for a dataset written before there were union schemas). Written under a
 /// temporary name and renamed, before the tables: a union may be wider than the logs
 /// the table of logs lists (a conversion that died after it), never narrower.
 fn write_union_schemas(
     dir: &Path,
-    new: &BTreeSet<String>,
+    new: &BTreeMap<String, Vec<PathBuf>>,
     compression: super::Compression,
 ) -> Result<()> {
-    if new.is_empty() {
-        return Ok(());
-    }
     let schemas_dir = dir.join(super::SCHEMAS_DIR);
-    let mut by_folder: BTreeMap<String, Vec<PathBuf>> = BTreeMap::new();
-    for (id, files) in topic_files(dir)? {
-        for (folder, path) in files {
-            if new.contains(&id) {
-                by_folder.entry(folder).or_default().push(path);
-            }
-        }
-    }
-    for (folder, new_files) in by_folder {
+    for (folder, new_files) in new {
         let published = schemas_dir.join(format!("{folder}.parquet"));
         let mut schemas = Vec::new();
         if published.exists() {
             schemas.push(super::union::file_schema(&published)?);
-            for path in &new_files {
+            for path in new_files {
                 schemas.push(super::union::file_schema(path)?);
             }
         } else {
-            let all = std::fs::read_dir(dir.join(&folder)).map_err(|e| ExportError::io(e, dir))?;
+            let all = std::fs::read_dir(dir.join(folder)).map_err(|e| ExportError::io(e, dir))?;
             let mut paths: Vec<PathBuf> = all
                 .flatten()
                 .map(|e| e.path())
