@@ -42,6 +42,14 @@ use crate::progress::Progress;
 /// is a string without its trailing NULs, one character per byte (ISO 8859-1, so no
 /// byte is lost); padding is left out; `timestamp` stays as logged (microseconds).
 ///
+/// With `--layout fleet`, for thousands of logs, a topic's rows of many logs share a
+/// file instead: `DATASET/<topic>/month=YYYY-MM/<log_id>.parquet` (the month of the
+/// log's `start_utc`; `--partition-by` chooses the folders), row groups of whole logs,
+/// logs in `log_id` order, each one's rows in `timestamp` order, files of about
+/// `--file-size` MB, each file's format hash, firmware versions and logs in its
+/// key-value metadata. Logs added later go into new files; no file is rewritten. A
+/// dataset keeps the layout it was made with.
+///
 /// With `--per-log`, each log goes to a folder of its own instead: `<log stem>/`
 /// holding `<topic>_<multi_id>.parquet` per topic instance and `metadata.json`
 /// (information, parameters, logged messages, dropouts, damage found, topics). A topic
@@ -62,7 +70,7 @@ use crate::progress::Progress;
 /// it; a lock left by a conversion that was killed is taken over on Linux).
 #[derive(Debug, clap::Args)]
 #[command(
-    about = "Logs to one Parquet dataset (a file per topic and log) for SQL",
+    about = "Logs to one Parquet dataset of topic files and tables, for SQL",
     long_about
 )]
 pub struct Args {
@@ -106,6 +114,49 @@ pub struct Args {
     /// for a single log, row groups encoded at the same time.
     #[arg(short = 'j', long = "jobs", value_name = "N")]
     jobs: Option<NonZeroUsize>,
+    /// How a new dataset lays out its topic files: `file-per-log` (`<topic>/<log_id>.parquet`,
+    /// the default) or `fleet` (many logs per file, in partition folders). An existing
+    /// dataset keeps its own; asking for another is an error.
+    #[arg(long, value_enum, value_name = "LAYOUT")]
+    layout: Option<LayoutArg>,
+    /// The fleet layout's partition folders, outermost first (comma-separated):
+    /// `month` (of the log's `start_utc`), `vehicle` (its `sys_uuid`), or `none`
+    /// [default: month].
+    #[arg(
+        long = "partition-by",
+        value_enum,
+        value_name = "KEYS",
+        value_delimiter = ','
+    )]
+    partition_by: Option<Vec<PartitionArg>>,
+    /// The fleet layout's file size in MB: a file is closed once it holds this much
+    /// (a log's rows are never split over files) [default: 128].
+    #[arg(
+        long = "file-size",
+        value_name = "MB",
+        value_parser = clap::value_parser!(u64).range(1..)
+    )]
+    file_size: Option<u64>,
+}
+
+/// A partition folder of the fleet layout (`--partition-by`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum PartitionArg {
+    /// `month=YYYY-MM`, of the log's `start_utc`.
+    Month,
+    /// `vehicle=<sys_uuid>`.
+    Vehicle,
+    /// No partition folders.
+    None,
+}
+
+/// A dataset's layout (`--layout`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum LayoutArg {
+    /// A file per topic and log.
+    FilePerLog,
+    /// A topic's rows of many logs per file, in partition folders.
+    Fleet,
 }
 
 /// A compression codec.
@@ -153,6 +204,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             Codec::None => Compression::Uncompressed,
         },
         threads: if jobs.len() == 1 { available } else { 1 },
+        layout: layout(args)?,
         ..Options::default()
     };
     // With one log, names it lacks are an error and nothing is left written; with
@@ -289,6 +341,45 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 /// The dataset in `dir`, once no other conversion writes it: while one does (another
 /// `ulog parquet` into the same folder), says so once on stderr and waits for it.
+/// The layout `--layout`, `--partition-by` and `--file-size` ask for.
+fn layout(args: &Args) -> Result<Option<export::DatasetLayout>, Failure> {
+    let fleet = args.layout == Some(LayoutArg::Fleet);
+    for (given, name) in [
+        (args.partition_by.is_some(), "--partition-by"),
+        (args.file_size.is_some(), "--file-size"),
+    ] {
+        if given && !fleet {
+            return Err(Failure::about(name, "is an option of `--layout fleet`"));
+        }
+    }
+    match args.layout {
+        None => Ok(None),
+        Some(LayoutArg::FilePerLog) => Ok(Some(export::DatasetLayout::FilePerLog)),
+        Some(LayoutArg::Fleet) => {
+            let mut partition_by = Vec::new();
+            let default = [PartitionArg::Month];
+            for arg in args.partition_by.as_deref().unwrap_or(&default) {
+                let key = match arg {
+                    PartitionArg::Month => export::PartitionKey::Month,
+                    PartitionArg::Vehicle => export::PartitionKey::Vehicle,
+                    PartitionArg::None => continue,
+                };
+                if partition_by.contains(&key) {
+                    return Err(Failure::about(
+                        "--partition-by",
+                        format!("`{}` is given twice", key.name()),
+                    ));
+                }
+                partition_by.push(key);
+            }
+            Ok(Some(export::DatasetLayout::Fleet(export::FleetLayout {
+                partition_by,
+                file_bytes: args.file_size.unwrap_or(128) << 20,
+            })))
+        }
+    }
+}
+
 fn open_dataset(dir: &Path, options: &Options) -> Result<Dataset, Failure> {
     let mut said = false;
     loop {

@@ -95,7 +95,38 @@ fn json_text(v: &Json) -> Option<String> {
 )]
 fn the_readmes_queries_answer_what_the_reader_says() {
     let (dir, logs) = corpus_dataset("fleet_queries");
+    readme_queries_answer_what_the_reader_says(&dir, &logs);
+}
 
+#[test]
+#[cfg_attr(
+    not(query_engines),
+    ignore = "needs python3 with duckdb and datafusion (pip install duckdb datafusion)"
+)]
+fn the_readmes_queries_answer_the_same_in_the_fleet_layout() {
+    let dir = common::scratch("fleet_queries_fleet").join("dataset");
+    let logs = logs();
+    // Files of 1 MB at most, by vehicle and month: several logs per file, files
+    // closed part way through a topic, and partition folders two deep.
+    let layout = [
+        "--layout",
+        "fleet",
+        "--partition-by",
+        "vehicle,month",
+        "--file-size",
+        "1",
+    ];
+    let out = convert(&logs, &dir, &layout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    readme_queries_answer_what_the_reader_says(&dir, &logs);
+}
+
+/// The README's queries over the dataset `dir` of `logs` answer what the reader says.
+fn readme_queries_answer_what_the_reader_says(dir: &Path, logs: &[PathBuf]) {
     let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scripts/fleet_queries.py");
     let answers: Json = serde_json::from_slice(&common::python([
@@ -836,31 +867,86 @@ fn listed_and_filed(dir: &Path) -> (BTreeMap<String, u64>, BTreeSet<String>) {
         if !folder.path().is_dir() || name.starts_with(['_', '.']) {
             continue;
         }
-        for file in std::fs::read_dir(folder.path()).unwrap().flatten() {
-            let file = file.file_name().to_string_lossy().into_owned();
-            if let Some(id) = file.strip_suffix(".parquet") {
-                filed.insert(id.to_owned());
+        for file in topic_folder_files(&folder.path()) {
+            // A fleet file names its logs in its metadata; a log's file is named
+            // after it.
+            match kv(&file).get(export::LOG_IDS_KEY) {
+                Some(ids) => filed.extend(ids.split(',').map(str::to_owned)),
+                None => {
+                    let stem = file.file_stem().unwrap().to_string_lossy();
+                    filed.insert(stem.into_owned());
+                }
             }
         }
     }
     (listed, filed)
 }
 
+/// The `.parquet` files of a topic folder and its partition folders (`key=value`).
+fn topic_folder_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if path.is_dir() {
+            assert!(
+                name.contains('='),
+                "{}: not a partition folder",
+                path.display()
+            );
+            out.extend(topic_folder_files(&path));
+        } else if name.ends_with(".parquet") {
+            out.push(path);
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A Parquet file's key-value metadata.
+fn kv(path: &Path) -> BTreeMap<String, String> {
+    let file = std::fs::File::open(path).unwrap();
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file).unwrap();
+    builder
+        .metadata()
+        .file_metadata()
+        .key_value_metadata()
+        .into_iter()
+        .flatten()
+        .filter_map(|kv| Some((kv.key.clone(), kv.value.clone()?)))
+        .collect()
+}
+
 #[test]
 fn a_conversion_killed_at_any_point_then_run_again_leaves_a_consistent_dataset() {
-    let scratch = common::scratch("fleet_killed");
+    killed_then_run_again("fleet_killed", &[], &[0.1, 0.3, 0.5, 0.7, 0.9, 0.97]);
+}
+
+#[test]
+fn a_fleet_layout_conversion_killed_then_run_again_leaves_a_consistent_dataset() {
+    // Most of a fleet conversion's files are written at its end (compacted).
+    let layout = ["--layout", "fleet", "--file-size", "1"];
+    killed_then_run_again("fleet_layout_killed", &layout, &[0.3, 0.8, 0.9, 0.95, 0.99]);
+}
+
+/// Conversions with `extra` options killed at `fractions` of a whole one's time, then
+/// run again, leave the dataset the whole one writes; meanwhile every log listed has
+/// its files.
+fn killed_then_run_again(name: &str, extra: &[&str], fractions: &[f64]) {
+    let scratch = common::scratch(name);
     let logs = logs();
     let whole = scratch.join("whole");
     let started = std::time::Instant::now();
-    assert!(convert(&logs, &whole, &[]).status.success());
+    assert!(convert(&logs, &whole, extra).status.success());
     let took = started.elapsed();
-    for (i, fraction) in [0.1, 0.3, 0.5, 0.7, 0.9, 0.97].into_iter().enumerate() {
+    for (i, &fraction) in fractions.iter().enumerate() {
         let dir = scratch.join(format!("killed{i}"));
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
             .arg("parquet")
             .args(&logs)
             .arg("-o")
             .arg(&dir)
+            .args(extra)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -877,7 +963,7 @@ fn a_conversion_killed_at_any_point_then_run_again_leaves_a_consistent_dataset()
             );
         }
         // Run again: consistent, and the dataset one conversion writes.
-        let again = convert(&logs, &dir, &[]);
+        let again = convert(&logs, &dir, extra);
         assert!(
             again.status.success(),
             "{}",
@@ -890,20 +976,191 @@ fn a_conversion_killed_at_any_point_then_run_again_leaves_a_consistent_dataset()
             .map(|(id, _)| id.clone())
             .collect();
         assert_eq!(filed, with_files, "killed at {fraction} of the run");
-        assert_eq!(
-            common::files(&dir),
-            common::files(&whole),
-            "killed at {fraction} of the run"
+        let (got, want) = (common::files(&dir), common::files(&whole));
+        let differ: Vec<&PathBuf> = got
+            .keys()
+            .chain(want.keys())
+            .filter(|p| got.get(*p) != want.get(*p))
+            .collect();
+        assert!(
+            differ.is_empty(),
+            "killed at {fraction} of the run: {differ:?}"
         );
     }
 
     // Files of a log the table does not list (a conversion killed between them and
     // the tables) are removed by the next conversion, whatever logs it is given.
     let dir = scratch.join("leftover");
-    assert!(convert(&logs[..1], &dir, &[]).status.success());
-    let stray = dir.join("vehicle_status").join("0123456789abcdef.parquet");
+    assert!(convert(&logs[..1], &dir, extra).status.success());
+    let mut stray = dir.join("vehicle_status");
+    if !extra.is_empty() {
+        stray.push("month=2024-02");
+    }
+    let stray = stray.join("0123456789abcdef.parquet");
     std::fs::create_dir_all(stray.parent().unwrap()).unwrap();
     std::fs::write(&stray, b"PAR1").unwrap();
-    assert!(convert(&logs[..1], &dir, &[]).status.success());
+    let pending = dir.join(export::PENDING_DIR).join("vehicle_status");
+    std::fs::create_dir_all(&pending).unwrap();
+    std::fs::write(pending.join("0123456789abcdef.parquet"), b"PAR1").unwrap();
+    assert!(convert(&logs[..1], &dir, extra).status.success());
     assert!(!stray.exists());
+    assert!(!dir.join(export::PENDING_DIR).exists());
+}
+
+#[test]
+fn the_fleet_layout_files_hold_logs_in_order_and_adding_logs_adds_files() {
+    let scratch = common::scratch("fleet_layout");
+    let logs = logs();
+    let layout = ["--layout", "fleet", "--file-size", "1"];
+    let whole = scratch.join("whole");
+    assert!(convert(&logs, &whole, &layout).status.success());
+
+    // Every topic file: in partition folders, named after its first log, its logs in
+    // id order, a row group (or more) per log, each log's rows in time order, and
+    // the format's hash and firmware versions in its metadata.
+    let firmware: BTreeMap<String, Option<String>> = {
+        let table = read(&whole.join("logs.parquet"));
+        let ids = table.column_by_name("log_id").unwrap().as_string::<i32>();
+        let release = table
+            .column_by_name("ver_sw_release")
+            .unwrap()
+            .as_string::<i32>();
+        let sw = table.column_by_name("ver_sw").unwrap().as_string::<i32>();
+        (0..table.num_rows())
+            .map(|i| {
+                let v = [release, sw].into_iter().find(|c| c.is_valid(i));
+                (ids.value(i).to_owned(), v.map(|c| c.value(i).to_owned()))
+            })
+            .collect()
+    };
+    let (mut files, mut shared) = (0, 0);
+    for topic in std::fs::read_dir(&whole).unwrap().flatten() {
+        let name = topic.file_name().to_string_lossy().into_owned();
+        if !topic.path().is_dir() || name.starts_with(['_', '.']) {
+            continue;
+        }
+        for file in topic_folder_files(&topic.path()) {
+            files += 1;
+            let partition = file
+                .parent()
+                .unwrap()
+                .file_name()
+                .unwrap()
+                .to_string_lossy();
+            assert!(partition.starts_with("month="), "{}", file.display());
+            let meta = kv(&file);
+            let ids: Vec<&str> = meta[export::LOG_IDS_KEY].split(',').collect();
+            shared += usize::from(ids.len() > 1);
+            assert_eq!(
+                file.file_stem().unwrap().to_string_lossy(),
+                ids[0],
+                "named after its first log"
+            );
+            assert!(ids.windows(2).all(|w| w[0] < w[1]), "logs in id order");
+            let hash = xxhash_rust::xxh3::xxh3_64(meta["ulog.format"].as_bytes());
+            assert_eq!(meta[export::FORMAT_HASH_KEY], format!("{hash:016x}"));
+            let versions: BTreeSet<&str> = ids
+                .iter()
+                .filter_map(|id| firmware[*id].as_deref())
+                .collect();
+            let recorded: BTreeSet<&str> = meta[export::FIRMWARE_KEY]
+                .split(',')
+                .filter(|v| !v.is_empty())
+                .collect();
+            assert_eq!(recorded, versions, "{}", file.display());
+
+            // Rows by log, in id order; each log's rows in time order; a log in one
+            // row group (a log's rows fill at most a few here); the row groups'
+            // `log_id` statistics give their logs' range.
+            let builder =
+                ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap())
+                    .unwrap();
+            let groups = builder.metadata().row_groups().to_vec();
+            let log_column = builder
+                .parquet_schema()
+                .columns()
+                .iter()
+                .position(|c| c.name() == "log_id")
+                .unwrap();
+            let mut seen: Vec<String> = Vec::new();
+            let mut times: BTreeMap<String, Vec<u64>> = BTreeMap::new();
+            for (g, meta) in groups.iter().enumerate() {
+                let reader =
+                    ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap())
+                        .unwrap()
+                        .with_row_groups(vec![g])
+                        .build()
+                        .unwrap();
+                let mut group_ids: Vec<String> = Vec::new();
+                for b in reader.map(Result::unwrap) {
+                    let id = b.column_by_name("log_id").unwrap().as_string::<i32>();
+                    let t = b
+                        .column_by_name("timestamp")
+                        .map(|t| t.as_primitive::<UInt64Type>().clone());
+                    for i in 0..b.num_rows() {
+                        let id = id.value(i).to_owned();
+                        if let Some(t) = &t {
+                            times.entry(id.clone()).or_default().push(t.value(i));
+                        }
+                        if group_ids.last() != Some(&id) {
+                            group_ids.push(id);
+                        }
+                    }
+                }
+                let stats = meta
+                    .column(log_column)
+                    .statistics()
+                    .expect("log_id statistics");
+                let bytes = |b: Option<&[u8]>| String::from_utf8(b.unwrap().to_vec()).unwrap();
+                assert_eq!(bytes(stats.min_bytes_opt()), group_ids[0]);
+                assert_eq!(bytes(stats.max_bytes_opt()), *group_ids.last().unwrap());
+                for id in group_ids {
+                    if seen.last() != Some(&id) {
+                        assert!(
+                            !seen.contains(&id),
+                            "{}: {id} in two places",
+                            file.display()
+                        );
+                        seen.push(id);
+                    }
+                }
+            }
+            assert_eq!(seen, ids, "logs in the order the metadata gives");
+            for (id, t) in times {
+                assert!(
+                    t.is_sorted(),
+                    "{}: {id}'s rows in time order",
+                    file.display()
+                );
+            }
+        }
+    }
+    assert!(files > 0 && (shared > 0 || !cfg!(full_corpus)));
+
+    // Adding logs adds files, and rewrites none; the result holds what one conversion
+    // of all the logs holds.
+    let dir = scratch.join("added");
+    let half = logs.len() / 2;
+    assert!(convert(&logs[..half], &dir, &layout).status.success());
+    let before = common::files(&dir);
+    // The dataset keeps its layout: no `--layout` needed, another refused.
+    let other = convert(&logs[half..], &dir, &["--layout", "file-per-log"]);
+    assert!(!other.status.success());
+    let said = String::from_utf8_lossy(&other.stderr);
+    assert!(
+        said.contains("the dataset's layout is fleet:month"),
+        "{said}"
+    );
+    assert!(convert(&logs[half..], &dir, &[]).status.success());
+    let after = common::files(&dir);
+    for (path, bytes) in &before {
+        let table = path.components().count() == 1;
+        if !table && !path.starts_with("_schemas") {
+            assert_eq!(after.get(path), Some(bytes), "{} rewritten", path.display());
+        }
+    }
+    assert!(after.len() > before.len());
+    let (listed, filed) = listed_and_filed(&dir);
+    let (whole_listed, whole_filed) = listed_and_filed(&whole);
+    assert_eq!((listed, filed), (whole_listed, whole_filed));
 }

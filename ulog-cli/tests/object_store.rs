@@ -27,30 +27,62 @@ use serde_json::Value as Json;
 struct S3Server {
     child: Child,
     endpoint: String,
+    /// The authority that signed the certificate of a server started with TLS
+    /// ([`S3Server::start_tls`]).
+    cert: Option<PathBuf>,
 }
 
 impl S3Server {
     fn start() -> S3Server {
+        S3Server::start_with(None)
+    }
+
+    /// A server that speaks HTTPS only, with a certificate for 127.0.0.1 made in
+    /// `dir` by an authority its clients are told to trust (`SSL_CERT_FILE`,
+    /// `AWS_CA_BUNDLE`).
+    fn start_tls(dir: &Path) -> S3Server {
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scripts/s3_check.py");
+        let made = Command::new("python3")
+            .arg(script)
+            .arg("tls-cert")
+            .arg(dir)
+            .status()
+            .expect("run python3");
+        assert!(made.success(), "no certificate made");
+        S3Server::start_with(Some(dir))
+    }
+
+    fn start_with(tls: Option<&Path>) -> S3Server {
         let port = TcpListener::bind("127.0.0.1:0")
             .and_then(|l| l.local_addr())
             .expect("a free port")
             .port();
-        let child = Command::new("python3")
-            .args([
-                "-m",
-                "moto.server",
-                "-H",
-                "127.0.0.1",
-                "-p",
-                &port.to_string(),
-            ])
+        let mut command = Command::new("python3");
+        command.args([
+            "-m",
+            "moto.server",
+            "-H",
+            "127.0.0.1",
+            "-p",
+            &port.to_string(),
+        ]);
+        if let Some(dir) = tls {
+            command
+                .arg("-c")
+                .arg(dir.join("cert.pem"))
+                .arg("-k")
+                .arg(dir.join("key.pem"));
+        }
+        let child = command
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
             .expect("start moto's server");
+        let scheme = if tls.is_some() { "https" } else { "http" };
         let server = S3Server {
             child,
-            endpoint: format!("http://127.0.0.1:{port}"),
+            endpoint: format!("{scheme}://127.0.0.1:{port}"),
+            cert: tls.map(|d| d.join("ca.pem")),
         };
         let start = Instant::now();
         while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
@@ -63,14 +95,21 @@ impl S3Server {
         server
     }
 
-    /// The standard AWS environment that points at this server.
-    fn env(&self) -> [(&'static str, String); 4] {
-        [
+    /// The standard AWS environment that points at this server (and trusts its
+    /// certificate).
+    fn env(&self) -> Vec<(&'static str, String)> {
+        let mut env = vec![
             ("AWS_ENDPOINT_URL", self.endpoint.clone()),
             ("AWS_ACCESS_KEY_ID", "testing".to_owned()),
             ("AWS_SECRET_ACCESS_KEY", "testing".to_owned()),
             ("AWS_DEFAULT_REGION", "us-east-1".to_owned()),
-        ]
+        ];
+        if let Some(cert) = &self.cert {
+            let cert = cert.display().to_string();
+            env.push(("SSL_CERT_FILE", cert.clone()));
+            env.push(("AWS_CA_BUNDLE", cert));
+        }
+        env
     }
 
     fn command(&self, program: &str) -> Command {
@@ -414,6 +453,109 @@ fn a_dataset_written_to_s3_is_the_local_one_as_pyarrow_reads_it() {
     assert_eq!(state["without_files"], Json::Array(vec![]));
     assert_eq!(state["files_without_log"], Json::Array(vec![]));
     assert_eq!(state["lock"], Json::Bool(false));
+}
+
+#[test]
+#[cfg_attr(
+    not(s3_server),
+    ignore = "needs python3 with moto[server], boto3 and pyarrow (pip install 'moto[server]' boto3 pyarrow)"
+)]
+fn logs_are_read_over_https_and_the_servers_certificate_is_checked() {
+    let scratch = common::scratch("object_store_tls");
+    let server = S3Server::start_tls(&scratch);
+    assert!(server.endpoint.starts_with("https://"));
+    let log = named("sample_appended_multiple");
+    server.upload("secure", "logs", std::slice::from_ref(&log), true);
+    let path = log.display().to_string();
+    let name = log.file_name().unwrap().to_string_lossy().into_owned();
+    let here = server.ulog(["info", path.as_str()]);
+    ok(&here, "info of the file");
+    let urls = [
+        format!("s3://secure/logs/{name}"),
+        format!("{}/secure/logs/{name}", server.endpoint),
+    ];
+    for url in &urls {
+        let there = server.ulog(["info", url.as_str()]);
+        ok(&there, url);
+        let text = String::from_utf8_lossy(&there.stdout).replace(url.as_str(), &path);
+        assert_eq!(text, String::from_utf8_lossy(&here.stdout), "{url}");
+    }
+    // A dataset written over TLS.
+    let out = server.ulog(["parquet", urls[0].as_str(), "-o", "s3://secure/ds"]);
+    ok(&out, "parquet over TLS");
+    let keys: Vec<String> =
+        serde_json::from_slice(&server.script(["keys", "secure", "ds/"])).unwrap();
+    assert!(keys.iter().any(|k| k == "ds/logs.parquet"), "{keys:?}");
+
+    // Without the certificate trusted, the server is refused: an error, not a read.
+    for url in &urls {
+        let refused = Command::new(env!("CARGO_BIN_EXE_ulog"))
+            .envs(
+                server
+                    .env()
+                    .into_iter()
+                    .filter(|(k, _)| !k.ends_with("CERT_FILE")),
+            )
+            .args(["info", url.as_str()])
+            .output()
+            .expect("run ulog");
+        assert!(
+            !refused.status.success(),
+            "{url} read without trusting its certificate"
+        );
+        let said = String::from_utf8_lossy(&refused.stderr);
+        assert!(said.starts_with(&format!("ulog: {url}: ")), "{said}");
+    }
+}
+
+#[test]
+#[cfg_attr(
+    not(s3_server),
+    ignore = "needs python3 with moto[server], boto3 and pyarrow (pip install 'moto[server]' boto3 pyarrow)"
+)]
+fn a_fleet_layout_dataset_written_to_s3_is_the_local_one() {
+    let server = S3Server::start();
+    let all = logs();
+    server.upload("fleet", "logs", &all, false);
+    let scratch = common::scratch("object_store_fleet_layout");
+    let local = scratch.join("local");
+    let layout = ["--layout", "fleet", "--partition-by", "vehicle,month"];
+    let mut args: Vec<std::ffi::OsString> =
+        vec!["parquet".into(), "-o".into(), local.clone().into()];
+    args.extend(all.iter().map(|p| p.as_os_str().to_owned()));
+    args.extend(layout.iter().map(|s| (*s).into()));
+    ok(&server.ulog(&args), "local dataset");
+
+    // A file left by a conversion that died (its first log not listed) is removed.
+    let stray = "ds/vehicle_status/vehicle=x/month=2024-02/0123456789abcdef.parquet";
+    server.script(["put", "fleet", stray, "PAR1"]);
+    let mut args = vec!["parquet", "s3://fleet/logs/", "-o", "s3://fleet/ds"];
+    args.extend(layout);
+    ok(&server.ulog(&args), "s3 dataset");
+
+    let compared = server.json(["compare", "fleet", "ds", &local.display().to_string()]);
+    assert_eq!(compared["remote_only"], Json::Array(vec![]), "{compared}");
+    assert_eq!(compared["local_only"], Json::Array(vec![]), "{compared}");
+    assert_eq!(compared["differ"], Json::Array(vec![]), "{compared}");
+    let files = common::files(&local);
+    assert!(files
+        .keys()
+        .any(|p| p.to_string_lossy().contains("/month=")));
+    assert_eq!(compared["compared"].as_u64(), Some(files.len() as u64));
+
+    // The dataset keeps its layout: logs added to it without `--layout` go into new
+    // partition files; another layout is refused.
+    let other = server.ulog([
+        "parquet",
+        "s3://fleet/logs/",
+        "-o",
+        "s3://fleet/ds",
+        "--layout",
+        "file-per-log",
+    ]);
+    assert!(!other.status.success());
+    let said = String::from_utf8_lossy(&other.stderr);
+    assert!(said.contains("layout"), "{said}");
 }
 
 #[test]

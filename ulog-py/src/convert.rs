@@ -7,10 +7,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use pyo3::exceptions::{PyFileNotFoundError, PyOSError};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use ulog_core::export::{
-    Added, Compression, Dataset, ExportError, ExportErrorKind, LogPath, Options,
+    Added, Compression, Dataset, DatasetLayout, ExportError, ExportErrorKind, FleetLayout, LogPath,
+    Options, PartitionKey,
 };
 use ulog_core::store::{Downloaded, Remote, RemoteDataset, StoreError, StoreErrorKind};
 
@@ -22,8 +23,13 @@ pub type Outcome = (String, Option<String>, &'static str, usize, Option<String>)
 
 /// The options of a dataset as `ulog parquet` sets them: `topics` only (a log that
 /// has none of them is skipped); `compression`: `zstd`, `snappy` or `none`.
-fn options(topics: Option<Vec<String>>, compression: &str) -> Options {
+fn options(
+    topics: Option<Vec<String>>,
+    compression: &str,
+    layout: Option<DatasetLayout>,
+) -> Options {
     Options {
+        layout,
         topics,
         compression: match compression {
             "snappy" => Compression::Snappy,
@@ -32,6 +38,53 @@ fn options(topics: Option<Vec<String>>, compression: &str) -> Options {
         },
         skip_missing_topics: true,
         ..Options::default()
+    }
+}
+
+/// The dataset layout of `ulog_rs.convert`'s `layout` (`"file-per-log"`, `"fleet"`),
+/// `partition_by` (`"month"`, `"vehicle"`; default month) and `file_size_mb` (default
+/// 128), as `ulog parquet --layout … --partition-by … --file-size …` take them.
+pub fn layout_of(
+    layout: Option<&str>,
+    partition_by: Option<Vec<String>>,
+    file_size_mb: Option<u64>,
+) -> PyResult<Option<DatasetLayout>> {
+    let fleet = layout == Some("fleet");
+    if !fleet && (partition_by.is_some() || file_size_mb.is_some()) {
+        return Err(PyValueError::new_err(
+            "partition_by and file_size_mb are options of layout=\"fleet\"",
+        ));
+    }
+    match layout {
+        None => Ok(None),
+        Some("file-per-log") => Ok(Some(DatasetLayout::FilePerLog)),
+        Some("fleet") => {
+            let mut keys = Vec::new();
+            for name in partition_by.unwrap_or_else(|| vec!["month".to_owned()]) {
+                let key = PartitionKey::parse(&name).ok_or_else(|| {
+                    PyValueError::new_err(format!(
+                        "partition_by {name:?}: \"month\" or \"vehicle\""
+                    ))
+                })?;
+                if keys.contains(&key) {
+                    return Err(PyValueError::new_err(format!(
+                        "partition_by {name:?} is given twice"
+                    )));
+                }
+                keys.push(key);
+            }
+            let mb = file_size_mb.unwrap_or(128);
+            if mb == 0 {
+                return Err(PyValueError::new_err("file_size_mb: at least 1"));
+            }
+            Ok(Some(DatasetLayout::Fleet(FleetLayout {
+                partition_by: keys,
+                file_bytes: mb << 20,
+            })))
+        }
+        Some(other) => Err(PyValueError::new_err(format!(
+            "layout {other:?}: \"file-per-log\" or \"fleet\""
+        ))),
     }
 }
 
@@ -120,8 +173,9 @@ pub fn convert(
     compression: &str,
     threads: usize,
     present: Vec<String>,
+    layout: Option<DatasetLayout>,
 ) -> PyResult<Vec<Outcome>> {
-    let target = Target::open(output, &options(topics, compression))?;
+    let target = Target::open(output, &options(topics, compression, layout))?;
     let dataset = target.dataset();
     dataset.assume_present(present);
     let sizes: Vec<u64> = logs
@@ -182,14 +236,18 @@ impl DatasetWriter {
     /// Opens (and locks) the dataset in the folder `output`, with the options of
     /// `ulog_rs.convert`.
     #[new]
-    #[pyo3(signature = (output, topics=None, compression="zstd"))]
+    #[pyo3(signature = (output, topics=None, compression="zstd", layout=None, partition_by=None, file_size_mb=None))]
     fn new(
         py: Python<'_>,
         output: PathBuf,
         topics: Option<Vec<String>>,
         compression: &str,
+        layout: Option<&str>,
+        partition_by: Option<Vec<String>>,
+        file_size_mb: Option<u64>,
     ) -> PyResult<DatasetWriter> {
-        let options = options(topics, compression);
+        let layout = layout_of(layout, partition_by, file_size_mb)?;
+        let options = options(topics, compression, layout);
         let dataset = guarded(|| {
             py.detach(|| Dataset::open(&output, &options))
                 .map_err(|e| export_error(&e))

@@ -57,3 +57,52 @@ def test_a_log_that_fails_is_reported_and_the_others_written(tmp_path):
 def test_an_input_that_names_nothing_is_file_not_found(tmp_path):
     with pytest.raises(FileNotFoundError):
         ulog_rs.convert([tmp_path / "nothing*.ulg"], tmp_path / "ds")
+
+
+def test_convert_in_the_fleet_layout_writes_what_ulog_parquet_writes(tmp_path):
+    exe = ulog_binary()
+    if exe is None:
+        missing("the `ulog` binary (cargo build -p ulog-cli) is not built")
+    logs = sorted(OWN.glob("*.ulg"))
+    ours, theirs = tmp_path / "ours", tmp_path / "theirs"
+    done = ulog_rs.convert(logs, ours, layout="fleet", partition_by=["vehicle", "month"],
+                           file_size_mb=1)
+    assert [d.status for d in done] == ["written"] * len(logs)
+    subprocess.run([str(exe), "parquet", *map(str, logs), "-o", str(theirs), "--layout", "fleet",
+                    "--partition-by", "vehicle,month", "--file-size", "1"],
+                   check=True, capture_output=True)
+    assert files(ours) == files(theirs)
+    for rel in files(ours):
+        assert (ours / rel).read_bytes() == (theirs / rel).read_bytes(), rel
+    # Topic files in partition folders, logs named in their metadata; pyarrow reads
+    # the folders as Hive partitions.
+    topic = [rel for rel in files(ours) if len(rel.parts) == 4]
+    assert topic and all(rel.parts[1].startswith("vehicle=") and rel.parts[2].startswith("month=")
+                         for rel in topic)
+    ids = set()
+    for rel in topic:
+        meta = pq.read_metadata(ours / rel).metadata
+        ids.update(meta[b"ulog.log_ids"].decode().split(","))
+    assert ids <= {d.log_id for d in done} and len(ids) > 1
+    ds = pytest.importorskip("pyarrow.dataset")
+    folder = ours / topic[0].parts[0]
+    table = ds.dataset(folder, format="parquet", partitioning="hive").to_table()
+    assert {"vehicle", "month", "log_id"} <= set(table.column_names)
+
+    # The dataset keeps its layout: another is refused, none asked keeps it.
+    with pytest.raises(ulog_rs.ULogError, match="layout"):
+        ulog_rs.convert(logs, ours, layout="file-per-log")
+    assert [d.status for d in ulog_rs.convert(logs, ours)] == ["present"] * len(logs)
+
+
+@pytest.mark.parametrize("kwargs", [
+    {"layout": "tiles"},
+    {"layout": "fleet", "partition_by": ["day"]},
+    {"layout": "fleet", "partition_by": ["month", "month"]},
+    {"layout": "fleet", "file_size_mb": 0},
+    {"partition_by": ["month"]},
+])
+def test_a_wrong_layout_is_a_value_error(tmp_path, kwargs):
+    with pytest.raises(ValueError):
+        ulog_rs.convert(sorted(OWN.glob("*.ulg"))[:1], tmp_path / "ds", **kwargs)
+    assert not (tmp_path / "ds" / "logs.parquet").exists()

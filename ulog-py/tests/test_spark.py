@@ -237,6 +237,38 @@ def plain(v):
 
 
 def test_the_readmes_fleet_queries_in_spark_sql_answer_as_duckdb(tmp_path, reference):
+    spark_sql_answers_as_duckdb(reference, reference)
+
+
+def test_the_spark_conversion_in_the_fleet_layout_writes_what_ulog_parquet_writes(
+        tmp_path, reference):
+    """In the fleet layout the driver compacts what the executors converted: the files
+    `ulog parquet --layout fleet` writes, byte for byte; Spark SQL reads the partition
+    folders through `register` and answers the README's queries as DuckDB does over
+    the file-per-log dataset."""
+    need_spark()
+    exe = ulog_binary()
+    if exe is None:
+        missing("the `ulog` binary (cargo build -p ulog-cli) is not built")
+    layout = ["--layout", "fleet", "--partition-by", "month", "--file-size", "1"]
+    theirs = tmp_path / "theirs"
+    subprocess.run([str(exe), "parquet", *map(str, LOGS), "-o", str(theirs), *layout],
+                   check=True, capture_output=True)
+    ours = tmp_path / "ours"
+    run = spark_cli(*LOGS, "-o", ours, "--master", "local[2]", *layout)
+    out, err = run.communicate(timeout=900)
+    assert run.returncode == 0, err
+    assert dataset_files(ours) == dataset_files(theirs)
+    assert any("/month=" in rel for rel in dataset_files(ours))
+    for rel in dataset_files(ours):
+        assert (ours / rel).read_bytes() == (theirs / rel).read_bytes(), rel
+    assert not (ours / "_staging").exists() and not (ours / "_pending").exists()
+    spark_sql_answers_as_duckdb(ours, reference)
+
+
+def spark_sql_answers_as_duckdb(dataset, reference):
+    """The README's Spark SQL queries over `dataset` answer what its DuckDB queries
+    answer over `reference`."""
     need_spark()
     duckdb = pytest.importorskip("duckdb")
     from pyspark.sql import SparkSession
@@ -251,7 +283,7 @@ def test_the_readmes_fleet_queries_in_spark_sql_answer_as_duckdb(tmp_path, refer
              .config("spark.ui.enabled", "false")
              .config("spark.sql.session.timeZone", "UTC").getOrCreate())
     try:
-        views = ulog_rs.spark.register(spark, reference)
+        views = ulog_rs.spark.register(spark, dataset)
         assert {"logs", "vehicle_local_position", "battery_status"} <= set(views)
         got = [[[plain(v) for v in row] for row in spark.sql(q.rstrip().rstrip(";")).collect()]
                for q in sparks]

@@ -45,7 +45,7 @@ def main():
         folder = os.path.join(dataset, topic)
         if not os.path.isdir(folder):
             continue
-        pattern = os.path.join(folder, "*.parquet").replace("'", "''")
+        pattern = os.path.join(folder, "**", "*.parquet").replace("'", "''")
         for log_id, n in con.sql(
             f"SELECT log_id, count(*) FROM read_parquet('{pattern}', union_by_name = true) "
             "GROUP BY log_id"

@@ -9,6 +9,8 @@ filesystem reads a dataset `ulog parquet` wrote there.
         bucket (read by pyarrow.fs.S3FileSystem) against the local one (pyarrow.parquet)
     s3_check.py consistent BUCKET PREFIX                  # JSON: logs.parquet against
         the topic files (every listed log has its files, every file its log)
+    s3_check.py tls-cert DIR                              # DIR/ca.pem, cert.pem, key.pem:
+        an authority and the certificate for 127.0.0.1 it signed (`cryptography`)
 
 The endpoint and credentials come from the standard AWS environment, as `ulog`'s.
 """
@@ -129,8 +131,57 @@ def consistent(bucket, prefix):
     }
 
 
+def tls_cert(folder):
+    """A certificate authority (ca.pem, which clients are told to trust) and the
+    server's certificate for 127.0.0.1 that it signed (cert.pem, key.pem): TLS
+    libraries refuse an authority's certificate as a server's."""
+    import datetime
+    import ipaddress
+
+    from cryptography import x509
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+    from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
+
+    now = datetime.datetime.now(datetime.timezone.utc)
+
+    def made(subject, issuer, key, signer, ca):
+        builder = (
+            x509.CertificateBuilder()
+            .subject_name(x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, subject)]))
+            .issuer_name(x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, issuer)]))
+            .public_key(key.public_key())
+            .serial_number(x509.random_serial_number())
+            .not_valid_before(now - datetime.timedelta(days=1))
+            .not_valid_after(now + datetime.timedelta(days=7))
+            .add_extension(x509.BasicConstraints(ca=ca, path_length=None), critical=True)
+        )
+        if not ca:
+            builder = builder.add_extension(
+                x509.SubjectAlternativeName([x509.IPAddress(ipaddress.ip_address("127.0.0.1"))]),
+                critical=False,
+            ).add_extension(x509.ExtendedKeyUsage([ExtendedKeyUsageOID.SERVER_AUTH]), critical=False)
+        return builder.sign(signer, hashes.SHA256())
+
+    ca_key = ec.generate_private_key(ec.SECP256R1())
+    ca = made("ulog test authority", "ulog test authority", ca_key, ca_key, True)
+    key = ec.generate_private_key(ec.SECP256R1())
+    cert = made("127.0.0.1", "ulog test authority", key, ca_key, False)
+    pem = serialization.Encoding.PEM
+    with open(os.path.join(folder, "ca.pem"), "wb") as f:
+        f.write(ca.public_bytes(pem))
+    with open(os.path.join(folder, "cert.pem"), "wb") as f:
+        f.write(cert.public_bytes(pem) + ca.public_bytes(pem))
+    with open(os.path.join(folder, "key.pem"), "wb") as f:
+        f.write(key.private_bytes(pem, serialization.PrivateFormat.PKCS8,
+                                  serialization.NoEncryption()))
+
+
 def main():
     cmd, args = sys.argv[1], sys.argv[2:]
+    if cmd == "tls-cert":
+        tls_cert(args[0])
+        return
     if cmd == "upload":
         bucket, prefix, rest = args[0], args[1], args[2:]
         public = "--public" in rest

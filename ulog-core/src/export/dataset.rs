@@ -21,6 +21,7 @@ use sha2::{Digest, Sha256};
 
 use super::error::{ExportError, ExportErrorKind};
 use super::files::{compression_of, write_error};
+use super::fleet::{compact, DatasetLayout, FleetLayout, LogPlace, PENDING_DIR};
 use super::lock::{partial_name, DatasetLock};
 use super::metadata::Facts;
 use super::stream::{export, Layout};
@@ -80,6 +81,12 @@ const LOG_ID_RULE: &str = "xxh3-64";
 ///   (a dataset written by an earlier version has neither: its logs have no rows
 ///   there).
 ///
+/// In the fleet layout ([`Options::layout`], [`DatasetLayout::Fleet`]) a topic's files
+/// hold many logs each instead, in partition folders
+/// (`<topic>/month=2024-05/<log_id>.parquet`, named after their first log): the
+/// logs' files are written into [`PENDING_DIR`](super::PENDING_DIR) as they are added
+/// and compacted by [`Dataset::finish`]; a dataset keeps the layout it was made with.
+///
 /// - [`SCHEMAS_DIR`](super::SCHEMAS_DIR)`/<topic>.parquet`: each topic's union schema
 ///   over all its files ([`union_schema`](super::union_schema)), no rows, widened as
 ///   logs are added: for engines that take one schema for a folder of files.
@@ -131,6 +138,8 @@ const LOG_ID_RULE: &str = "xxh3-64";
 pub struct Dataset {
     dir: PathBuf,
     options: Options,
+    /// Its layout: as recorded, else as asked.
+    layout: DatasetLayout,
     state: Mutex<State>,
     /// Held from `open` until the dataset is finished or dropped.
     _lock: DatasetLock,
@@ -156,7 +165,9 @@ pub enum Added {
     Written {
         /// Its id.
         log_id: String,
-        /// The files written.
+        /// The files written (in the fleet layout, in
+        /// [`PENDING_DIR`](super::PENDING_DIR) until [`Dataset::finish`] compacts
+        /// them).
         export: Export,
     },
     /// The dataset has the log already (or it was added by another thread meanwhile):
@@ -195,9 +206,16 @@ impl Dataset {
             }
         }
         state.ids = state.tables[0].keys().cloned().collect();
+        let layout = resolve_layout(&dir, options.layout.as_ref())?;
         remove_unlisted(&dir, &state.ids)?;
+        // A conversion that died before it compacted its logs' files.
+        let pending = dir.join(PENDING_DIR);
+        if pending.exists() {
+            std::fs::remove_dir_all(&pending).map_err(|e| ExportError::io(e, &pending))?;
+        }
         Ok(Dataset {
             dir,
+            layout,
             options: options.clone(),
             state: Mutex::new(state),
             _lock: lock,
@@ -207,6 +225,21 @@ impl Dataset {
     /// The folder.
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// How its topic files are laid out (as it was written, for a dataset that has
+    /// logs).
+    pub fn layout(&self) -> &DatasetLayout {
+        &self.layout
+    }
+
+    /// Where a log's topic files are written as it is added: the dataset's folder, or
+    /// in the fleet layout the folder of files waiting for [`Dataset::finish`].
+    fn files_dir(&self) -> PathBuf {
+        match self.layout {
+            DatasetLayout::FilePerLog => self.dir.clone(),
+            DatasetLayout::Fleet(_) => self.dir.join(PENDING_DIR),
+        }
     }
 
     /// The number of logs in the dataset (those being added included).
@@ -249,11 +282,15 @@ impl Dataset {
         if !self.lock().ids.insert(log_id.clone()) {
             return Ok(Added::Present { log_id });
         }
-        let options = Options {
+        let mut options = Options {
             log_id: Some(log_id.clone()),
             utc,
             ..self.options.clone()
         };
+        if let DatasetLayout::Fleet(_) = self.layout {
+            // Read back once by the compaction, which compresses: not compressed twice.
+            options.compression = super::Compression::Uncompressed;
+        }
         // The SHA-256 taken as the pass reads the file (on its read-ahead thread), with
         // the id again, to know the pass read the file the id was taken of.
         let read = Arc::new(Mutex::new(Hashed::default()));
@@ -278,7 +315,7 @@ impl Dataset {
         };
         let exported = export(
             source,
-            &self.dir,
+            &self.files_dir(),
             &options,
             Layout::Dataset(&tables),
             progress,
@@ -347,6 +384,15 @@ impl Dataset {
     /// ```
     pub fn absorb(&self, other: impl AsRef<Path>) -> Result<Vec<Added>> {
         let other = other.as_ref();
+        if let DatasetLayout::Fleet(_) = resolve_layout(other, None)? {
+            return Err(ExportError::new(ExportErrorKind::Dataset {
+                what: "a dataset in the fleet layout cannot be absorbed: its files hold \
+                       many logs each"
+                    .to_owned(),
+            })
+            .in_file(other));
+        }
+        let files_dir = self.files_dir();
         let mut taken: [BTreeMap<String, Vec<RecordBatch>>; 6] = Default::default();
         for (i, (name, schema)) in tables().into_iter().enumerate() {
             let path = other.join(name);
@@ -366,7 +412,7 @@ impl Dataset {
             let count = mine.len();
             let mut placed = Vec::with_capacity(count);
             let moved = mine.iter().try_for_each(|(folder, from)| {
-                let to = self.dir.join(folder);
+                let to = files_dir.join(folder);
                 std::fs::create_dir_all(&to).map_err(|e| ExportError::io(e, &to))?;
                 let to = to.join(format!("{log_id}.parquet"));
                 move_file(from, &to)?;
@@ -394,17 +440,32 @@ impl Dataset {
         Ok(added)
     }
 
-    /// Writes the union schemas of the topics of the logs added
+    /// In the fleet layout, compacts the files of the logs added into the partition
+    /// folders; then writes the union schemas of their topics
     /// ([`SCHEMAS_DIR`](super::SCHEMAS_DIR)), then the tables: the rows they had and
     /// those of the logs added, the table of logs last.
     pub fn finish(self) -> Result<()> {
-        let state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        let mut state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        if let DatasetLayout::Fleet(fleet) = &self.layout {
+            let places = LogPlace::of_logs(&state.tables[0]);
+            state.new = compact(
+                &self.dir,
+                &state.new,
+                &places,
+                fleet,
+                self.options.compression,
+            )?;
+            let pending = self.dir.join(PENDING_DIR);
+            if pending.exists() {
+                std::fs::remove_dir_all(&pending).map_err(|e| ExportError::io(e, &pending))?;
+            }
+        }
         write_union_schemas(&self.dir, &state.new, self.options.compression)?;
         let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
         let mut result = Ok(());
         for ((name, schema), rows) in tables().into_iter().zip(&state.tables) {
             let path = self.dir.join(name);
-            match write_table(&path, &schema, rows, &self.options) {
+            match write_table(&path, &schema, rows, &self.options, &self.layout) {
                 Ok(partial) => written.push((partial, path)),
                 Err(e) => {
                     result = Err(e);
@@ -451,16 +512,8 @@ fn write_union_schemas(
                 schemas.push(super::union::file_schema(path)?);
             }
         } else {
-            let all = std::fs::read_dir(dir.join(folder)).map_err(|e| ExportError::io(e, dir))?;
-            let mut paths: Vec<PathBuf> = all
-                .flatten()
-                .map(|e| e.path())
-                .filter(|p| {
-                    p.file_name()
-                        .and_then(|n| n.to_str())
-                        .is_some_and(|n| topic_file_id(n).is_some())
-                })
-                .collect();
+            let mut paths: Vec<PathBuf> = Vec::new();
+            folder_files(&dir.join(folder), &mut |_, path| paths.push(path))?;
             paths.sort();
             for path in &paths {
                 schemas.push(super::union::file_schema(path)?);
@@ -523,18 +576,87 @@ fn topic_files(dir: &Path) -> Result<BTreeMap<String, Vec<(String, PathBuf)>>> {
         .collect();
     folders.sort();
     for (folder, path) in folders {
-        let inner = std::fs::read_dir(&path).map_err(|e| ExportError::io(e, &path))?;
-        for entry in inner.flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            if let Some(id) = topic_file_id(&name) {
-                files
-                    .entry(id.to_owned())
-                    .or_default()
-                    .push((folder.clone(), entry.path()));
-            }
-        }
+        folder_files(&path, &mut |id, path| {
+            files
+                .entry(id.to_owned())
+                .or_default()
+                .push((folder.clone(), path));
+        })?;
     }
     Ok(files)
+}
+
+/// Calls `found` with the id and path of each topic file (`<log_id>.parquet`) in the
+/// topic folder `dir` and its partition folders (`<key>=<value>/`, the fleet layout).
+fn folder_files(dir: &Path, found: &mut dyn FnMut(&str, PathBuf)) -> Result<()> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(ExportError::io(e, dir)),
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if entry.file_type().is_ok_and(|t| t.is_dir()) {
+            if name.contains('=') {
+                folder_files(&entry.path(), found)?;
+            }
+        } else if let Some(id) = topic_file_id(&name) {
+            found(id, entry.path());
+        }
+    }
+    Ok(())
+}
+
+/// The layout of the dataset in `dir`: as its table of logs records it (a table
+/// written before there were layouts: file per log), else `asked`, else file per
+/// log. An error when `asked` lays files out in other folders than the dataset's.
+fn resolve_layout(dir: &Path, asked: Option<&DatasetLayout>) -> Result<DatasetLayout> {
+    let path = dir.join(LOGS_FILE);
+    let file_bytes = match asked {
+        Some(DatasetLayout::Fleet(fleet)) => fleet.file_bytes,
+        _ => FleetLayout::default().file_bytes,
+    };
+    let recorded = match File::open(&path) {
+        Ok(file) => {
+            let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| {
+                ExportError::new(ExportErrorKind::Dataset {
+                    what: format!("a table of the dataset cannot be read back: {e}"),
+                })
+                .in_file(&path)
+            })?;
+            let text = builder
+                .metadata()
+                .file_metadata()
+                .key_value_metadata()
+                .and_then(|kv| kv.iter().find(|kv| kv.key == LAYOUT_KEY))
+                .and_then(|kv| kv.value.clone())
+                .unwrap_or_else(|| DatasetLayout::FilePerLog.recorded());
+            let layout = DatasetLayout::from_recorded(&text, file_bytes).ok_or_else(|| {
+                ExportError::new(ExportErrorKind::Dataset {
+                    what: format!("the dataset's layout ({text}) is not one this version knows"),
+                })
+                .in_file(&path)
+            })?;
+            Some(layout)
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(ExportError::io(e, &path)),
+    };
+    match (recorded, asked) {
+        (Some(recorded), Some(asked)) if !recorded.same_folders(asked) => {
+            Err(ExportError::new(ExportErrorKind::Dataset {
+                what: format!(
+                    "the dataset's layout is {}, these logs would be laid out as {}: convert \
+                     them without a layout (the dataset's is kept), or into another dataset",
+                    recorded.recorded(),
+                    asked.recorded()
+                ),
+            })
+            .in_file(&path))
+        }
+        (Some(recorded), _) => Ok(recorded),
+        (None, asked) => Ok(asked.cloned().unwrap_or_default()),
+    }
 }
 
 /// Removes the topic files of logs the table of logs does not list (`ids`): a
@@ -1073,6 +1195,7 @@ fn write_table(
     schema: &SchemaRef,
     rows: &BTreeMap<String, Vec<RecordBatch>>,
     options: &Options,
+    layout: &DatasetLayout,
 ) -> Result<PathBuf> {
     // One batch, however the rows came (read back or new): the writer's pages then do
     // not depend on it, and the file is the same byte for byte.
@@ -1089,7 +1212,11 @@ fn write_table(
         let rule = ParquetKeyValue::new(LOG_ID_KEY.to_owned(), LOG_ID_RULE.to_owned());
         let props = parquet::file::properties::WriterProperties::builder()
             .set_compression(compression_of(options.compression))
-            .set_key_value_metadata(Some(vec![flatten, rule]))
+            .set_key_value_metadata(Some(vec![
+                flatten,
+                rule,
+                ParquetKeyValue::new(LAYOUT_KEY.to_owned(), layout.recorded()),
+            ]))
             .build();
         let mut writer =
             ArrowWriter::try_new(std::io::BufWriter::new(file), schema.clone(), Some(props))
@@ -1111,6 +1238,10 @@ const LOG_ID_KEY: &str = "ulog.log_id";
 /// The key of the tables' metadata that says whether the topics' files have
 /// flattened columns ([`Options::flatten`]): a dataset's files all have the same.
 const FLATTEN_KEY: &str = "ulog.flatten";
+
+/// The key of the tables' metadata that says how topic files are laid out
+/// ([`DatasetLayout`]): the logs added later go where the others are.
+const LAYOUT_KEY: &str = "ulog.layout";
 
 #[cfg(test)]
 mod tests {

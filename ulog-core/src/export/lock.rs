@@ -191,13 +191,24 @@ impl DatasetLock {
             if kind.is_file() && partial(&path) {
                 let _ = std::fs::remove_file(&path);
             } else if kind.is_dir() {
-                for inner in std::fs::read_dir(&path).into_iter().flatten().flatten() {
-                    let inner = inner.path();
-                    if partial(&inner) && inner.is_file() {
-                        let _ = std::fs::remove_file(&inner);
-                    }
-                }
+                clear_partials(&path);
             }
+        }
+    }
+}
+
+/// Removes the temporary files in the topic folder `dir` and its partition folders
+/// (`<key>=<value>/`, the fleet layout).
+fn clear_partials(dir: &Path) {
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let path = entry.path();
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if kind.is_file() && path.extension().is_some_and(|e| e == "partial") {
+            let _ = std::fs::remove_file(&path);
+        } else if kind.is_dir() && entry.file_name().to_string_lossy().contains('=') {
+            clear_partials(&path);
         }
     }
 }

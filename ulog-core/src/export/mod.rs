@@ -66,6 +66,7 @@ mod arrow;
 mod dataset;
 mod error;
 mod files;
+mod fleet;
 mod flights;
 mod lazy_file;
 mod leaves;
@@ -88,6 +89,10 @@ pub use dataset::{
     Added, Dataset, LogPath, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE,
 };
 pub use files::{write_topic, writer_properties, Export, Skipped, Written};
+pub use fleet::{
+    DatasetLayout, FleetLayout, PartitionKey, FIRMWARE_KEY, FORMAT_HASH_KEY, LOG_IDS_KEY,
+    NULL_PARTITION, PENDING_DIR,
+};
 pub use flights::{ANALYSIS_FILE, FLIGHTS_FILE};
 pub use lock::LOCK_FILE;
 pub use metadata::{metadata_json, write_metadata, METADATA_FILE};
@@ -161,6 +166,11 @@ pub struct Options {
     /// the schema's metadata then has no `ulog.multi_id`, so the instances of a topic
     /// share one schema.
     pub log_id: Option<String>,
+    /// How a [`Dataset`] lays out its topic files; `None`: as the dataset has them, or
+    /// [`DatasetLayout::FilePerLog`] for a new one. A dataset refuses another layout
+    /// than its own (the file size of [`FleetLayout`] may change from one conversion
+    /// to the next). Not used outside a dataset.
+    pub layout: Option<DatasetLayout>,
 }
 
 impl Default for Options {
@@ -176,6 +186,7 @@ impl Default for Options {
             skip_missing_topics: false,
             utc: None,
             log_id: None,
+            layout: None,
         }
     }
 }

@@ -190,7 +190,8 @@ fn take_lock(remote: &Remote, lock: &Remote) -> Result<()> {
     ))
 }
 
-/// Removes the topic files (`<topic>/<log_id>.parquet`) of logs `dataset` lacks;
+/// Removes the topic files of logs `dataset` lacks (in the fleet layout: whose first
+/// log it lacks);
 /// the number removed.
 fn remove_unlisted(remote: &Remote, dataset: &Dataset) -> Result<usize> {
     let mut removed = 0;
@@ -198,14 +199,20 @@ fn remove_unlisted(remote: &Remote, dataset: &Dataset) -> Result<usize> {
         let Some(rel) = object.relative_to(remote) else {
             continue;
         };
-        let Some((_, file)) = rel.split_once('/') else {
+        // `<topic>/<log_id>.parquet`, or in the fleet layout
+        // `<topic>/<key>=<value>/…/<first log_id>.parquet`.
+        let parts: Vec<&str> = rel.split('/').collect();
+        let [topic, partitions @ .., file] = parts.as_slice() else {
             continue;
         };
+        if topic.starts_with(['_', '.']) || partitions.iter().any(|p| !p.contains('=')) {
+            continue;
+        }
         let Some(id) = file.strip_suffix(".parquet") else {
             continue;
         };
         let is_id = id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit());
-        if is_id && !file.contains('/') && !dataset.contains(id) {
+        if is_id && !dataset.contains(id) {
             object.delete()?;
             removed += 1;
         }

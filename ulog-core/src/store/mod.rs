@@ -18,4 +18,4 @@ mod remote;
 
 pub use dataset::{Downloaded, Published, RemoteDataset};
 pub use error::{StoreError, StoreErrorKind};
-pub use remote::{Location, Remote, RemoteReader, CHUNK, FIRST_CHUNK};
+pub use remote::{Location, Remote, RemoteReader, AHEAD, FIRST_CHUNK};

@@ -3,7 +3,6 @@
 
 use std::collections::HashMap;
 use std::io::Read;
-use std::ops::Range;
 use std::path::Path as FsPath;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -18,10 +17,14 @@ use crate::LogFile;
 
 type Result<T, E = StoreError> = core::result::Result<T, E>;
 
-/// The bytes one request of a [`RemoteReader`] asks for after the first: 8 MiB, so
-/// that a 300 MB log is 37 requests (each costs a round trip), while a command that
-/// stops early reads at most one chunk (and the one read ahead) past where it stopped.
-pub const CHUNK: u64 = 8 << 20;
+/// The bytes a [`RemoteReader`] holds ahead of the caller, in blocks of 1 MiB: 8
+/// MiB, so that a command that stops early has fetched at most that much (and what the
+/// connection's buffers held) past where it stopped.
+pub const AHEAD: u64 = 8 << 20;
+
+/// The blocks a [`RemoteReader`] hands over: 1 MiB, gathered from the response's frames
+/// (16 KiB and less), so that the caller waits on the runtime once per block.
+const BLOCK: usize = 1 << 20;
 
 /// The bytes of a [`RemoteReader`]'s first request: 1 MiB, which holds the header
 /// and the definitions of real logs (a read of those alone, such as `ulog cut`'s
@@ -149,18 +152,20 @@ impl Remote {
         }
     }
 
-    /// The object's bytes in order, read by ranged requests ([`FIRST_CHUNK`], then
-    /// [`CHUNK`] bytes) as the caller reads them, the next one asked for while the
-    /// caller reads this one: a pass that stops early (a header read, `ulog align
-    /// --end`) does not fetch the rest. Nothing is asked before the first read (then
-    /// the object's size, by a `HEAD`); a failed request is the read's
+    /// The object's bytes in order, as the caller reads them: [`FIRST_CHUNK`] by a
+    /// ranged request, then the rest by one more, whose response is read as the
+    /// caller goes, [`AHEAD`] bytes ahead of it at most (one request, not one per
+    /// chunk: each costs a round trip, and some servers a copy of the object). A pass
+    /// that stops early (a header read, `ulog align --end`) does not fetch the rest.
+    /// Nothing is asked before the first read (then the object's size, by a `HEAD`);
+    /// a failed request, or a response that ends early, is the read's
     /// [`std::io::Error`], whose source is the [`StoreError`].
     pub fn reader(&self) -> RemoteReader {
         RemoteReader {
             remote: self.clone(),
             size: None,
-            next_start: 0,
-            ahead: None,
+            fetch: Fetch::First(None),
+            received: 0,
             current: ::bytes::Bytes::new(),
             used: 0,
         }
@@ -307,14 +312,26 @@ pub struct RemoteReader {
     remote: Remote,
     /// The object's size, from a `HEAD` at the first read.
     size: Option<u64>,
-    /// Where the next request starts.
-    next_start: u64,
-    /// The request under way for the chunk after `current`.
-    ahead: Option<JoinHandle<Result<::bytes::Bytes, object_store::Error>>>,
+    fetch: Fetch,
+    /// The bytes received so far.
+    received: u64,
     current: ::bytes::Bytes,
     /// The bytes of `current` read.
     used: usize,
 }
+
+/// What a [`RemoteReader`] has asked for.
+enum Fetch {
+    /// The first chunk's request (once the size is known).
+    First(Option<JoinHandle<Result<::bytes::Bytes, object_store::Error>>>),
+    /// The rest's response, read into blocks by a task of the runtime.
+    Rest {
+        blocks: Arc<tokio::sync::Mutex<Blocks>>,
+        task: JoinHandle<()>,
+    },
+}
+
+type Blocks = tokio::sync::mpsc::Receiver<Result<::bytes::Bytes, object_store::Error>>;
 
 impl RemoteReader {
     /// The object's size, once read (after the first read).
@@ -322,22 +339,97 @@ impl RemoteReader {
         self.size
     }
 
-    fn ask_next(&mut self) {
-        let size = self.size.unwrap_or(0);
-        if self.next_start >= size {
-            self.ahead = None;
-            return;
-        }
-        let chunk = if self.next_start == 0 {
-            FIRST_CHUNK
-        } else {
-            CHUNK
-        };
-        let range: Range<u64> = self.next_start..(self.next_start + chunk).min(size);
-        self.next_start = range.end;
+    /// Asks for the bytes from `start` to the end, read by a task into blocks.
+    fn ask_rest(&mut self, start: u64, size: u64) {
         let store = self.remote.store.clone();
         let key = self.remote.key.clone();
-        self.ahead = Some(runtime().spawn(async move { store.get_range(&key, range).await }));
+        let (sender, blocks) =
+            tokio::sync::mpsc::channel(usize::try_from(AHEAD).unwrap_or(1) / BLOCK);
+        let task = runtime().spawn(async move {
+            let options = object_store::GetOptions {
+                range: Some(object_store::GetRange::Bounded(start..size)),
+                ..Default::default()
+            };
+            let mut stream = match store.get_opts(&key, options).await {
+                Ok(response) => response.into_stream(),
+                Err(e) => {
+                    let _ = sender.send(Err(e)).await;
+                    return;
+                }
+            };
+            let mut block = ::bytes::BytesMut::new();
+            while let Some(frame) = futures::StreamExt::next(&mut stream).await {
+                match frame {
+                    Ok(frame) => {
+                        block.extend_from_slice(&frame);
+                        if block.len() >= BLOCK
+                            && sender.send(Ok(block.split().freeze())).await.is_err()
+                        {
+                            return; // The reader is gone.
+                        }
+                    }
+                    Err(e) => {
+                        let _ = sender.send(Err(e)).await;
+                        return;
+                    }
+                }
+            }
+            if !block.is_empty() {
+                let _ = sender.send(Ok(block.freeze())).await;
+            }
+        });
+        self.fetch = Fetch::Rest {
+            blocks: Arc::new(tokio::sync::Mutex::new(blocks)),
+            task,
+        };
+    }
+
+    /// The next bytes: `None` at the end of the object.
+    fn next_bytes(&mut self) -> std::io::Result<Option<::bytes::Bytes>> {
+        let size = self.size.unwrap_or(0);
+        if self.received >= size {
+            return Ok(None);
+        }
+        let got = match &mut self.fetch {
+            Fetch::First(first) => {
+                let first = first.take().unwrap_or_else(|| {
+                    let store = self.remote.store.clone();
+                    let key = self.remote.key.clone();
+                    let range = 0..FIRST_CHUNK.min(size);
+                    runtime().spawn(async move { store.get_range(&key, range).await })
+                });
+                let got = block_on(first).map_err(std::io::Error::other)?;
+                let got = got.map_err(|e| std::io::Error::from(self.remote.error(e)))?;
+                // The rest asked for at once, while the caller reads this.
+                let end = self.received + got.len() as u64;
+                if end < size {
+                    self.ask_rest(end, size);
+                }
+                Some(got)
+            }
+            Fetch::Rest { blocks, .. } => {
+                let blocks = blocks.clone();
+                block_on(async move { blocks.lock().await.recv().await })
+                    .transpose()
+                    .map_err(|e| std::io::Error::from(self.remote.error(e)))?
+            }
+        };
+        match got {
+            Some(bytes) if !bytes.is_empty() => {
+                self.received += bytes.len() as u64;
+                Ok(Some(bytes))
+            }
+            _ => {
+                let short = std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    format!(
+                        "the response ended at byte {} of the object's {size}",
+                        self.received
+                    ),
+                );
+                Err(StoreError::io(short, self.remote.url()).into())
+            }
+        }
     }
 }
 
@@ -345,20 +437,14 @@ impl Read for RemoteReader {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         if self.size.is_none() {
             self.size = Some(self.remote.size()?);
-            self.ask_next();
         }
         if self.used == self.current.len() {
-            let Some(ahead) = self.ahead.take() else {
-                return Ok(0);
-            };
-            let got = block_on(ahead)
-                .map_err(std::io::Error::other)?
-                .map_err(|e| std::io::Error::from(self.remote.error(e)))?;
-            self.current = got;
-            self.used = 0;
-            self.ask_next();
-            if self.current.is_empty() {
-                return Ok(0);
+            match self.next_bytes()? {
+                Some(bytes) => {
+                    self.current = bytes;
+                    self.used = 0;
+                }
+                None => return Ok(0),
             }
         }
         let n = buf.len().min(self.current.len() - self.used);
@@ -370,8 +456,11 @@ impl Read for RemoteReader {
 
 impl Drop for RemoteReader {
     fn drop(&mut self) {
-        if let Some(ahead) = self.ahead.take() {
-            ahead.abort();
+        // The response not read is dropped with its connection.
+        match &self.fetch {
+            Fetch::First(Some(first)) => first.abort(),
+            Fetch::Rest { task, .. } => task.abort(),
+            Fetch::First(None) => {}
         }
     }
 }
@@ -489,5 +578,111 @@ mod tests {
         assert!(e
             .to_string()
             .starts_with(&format!("http://127.0.0.1:{port}/x.ulg: ")));
+    }
+
+    /// An HTTP server on 127.0.0.1 serving one object of `size` bytes (byte `i` is
+    /// `i % 251`), `HEAD` and ranged `GET`s, a connection each; a `GET`'s response
+    /// stops after `cut` bytes of its body if given (a connection lost). Counts the
+    /// body bytes it managed to send.
+    fn serve(size: u64, cut: Option<u64>) -> (String, Arc<std::sync::atomic::AtomicU64>) {
+        use std::io::{BufRead, BufReader, Write};
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
+        let url = format!("http://{}/log.ulg", listener.local_addr().expect("addr"));
+        let sent = Arc::new(std::sync::atomic::AtomicU64::new(0));
+        let counted = sent.clone();
+        std::thread::spawn(move || {
+            for stream in listener.incoming().flatten() {
+                let sent = counted.clone();
+                std::thread::spawn(move || {
+                    let mut reader = BufReader::new(stream.try_clone().expect("clone"));
+                    let mut stream = stream;
+                    let (mut head, mut range) = (false, None);
+                    let mut line = String::new();
+                    while reader.read_line(&mut line).is_ok_and(|n| n > 0) {
+                        let l = line.trim_end().to_ascii_lowercase();
+                        if l.is_empty() {
+                            break;
+                        }
+                        head |= l.starts_with("head ");
+                        if let Some(r) = l.strip_prefix("range: bytes=") {
+                            let (a, b) = r.split_once('-').expect("a-b");
+                            let a: u64 = a.parse().expect("start");
+                            let b: u64 = b.parse().map_or(size - 1, |b: u64| b.min(size - 1));
+                            range = Some((a, b));
+                        }
+                        line.clear();
+                    }
+                    let (a, b) = range.unwrap_or((0, size - 1));
+                    let status = if range.is_some() {
+                        "206 Partial Content"
+                    } else {
+                        "200 OK"
+                    };
+                    let header = format!(
+                        "HTTP/1.1 {status}\r\nContent-Length: {}\r\nContent-Range: bytes {a}-{b}/{size}\r\nAccept-Ranges: bytes\r\nConnection: close\r\n\r\n",
+                        if head { size } else { b - a + 1 }
+                    );
+                    if stream.write_all(header.as_bytes()).is_err() || head {
+                        return;
+                    }
+                    let end = cut.map_or(b + 1, |c| (a + c).min(b + 1));
+                    let mut at = a;
+                    while at < end {
+                        let n = (end - at).min(64 << 10);
+                        let body: Vec<u8> = (at..at + n).map(|i| (i % 251) as u8).collect();
+                        if stream.write_all(&body).is_err() {
+                            return; // The client closed the connection.
+                        }
+                        sent.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+                        at += n;
+                    }
+                });
+            }
+        });
+        (url, sent)
+    }
+
+    #[test]
+    fn a_reader_reads_the_object_in_order_and_stops_fetching_when_dropped() {
+        let size = 48 << 20;
+        let (url, sent) = serve(size, None);
+        let remote = Remote::parse(&url).expect("an http URL");
+        let mut all = Vec::new();
+        remote.reader().read_to_end(&mut all).expect("read");
+        assert_eq!(all.len() as u64, size);
+        assert!(all.iter().enumerate().all(|(i, b)| *b == (i % 251) as u8));
+
+        // A reader dropped after 2 MiB: the server sends the first chunk, what the
+        // reader holds ahead and what the connection buffers, not the rest.
+        let (url, sent_early) = serve(size, None);
+        let mut reader = Remote::parse(&url).expect("url").reader();
+        let mut first = vec![0; 2 << 20];
+        reader.read_exact(&mut first).expect("2 MiB");
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        drop(reader);
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        let early = sent_early.load(std::sync::atomic::Ordering::Relaxed);
+        assert!(early < size / 2, "{early} of {size} bytes sent");
+        assert!(sent.load(std::sync::atomic::Ordering::Relaxed) >= size);
+    }
+
+    #[test]
+    fn a_response_that_ends_early_is_an_error_not_a_short_object() {
+        let size = 4 << 20;
+        let (url, _) = serve(size, Some(1 << 20));
+        let mut all = Vec::new();
+        let e = Remote::parse(&url)
+            .expect("url")
+            .reader()
+            .read_to_end(&mut all)
+            .expect_err("the object is cut short");
+        assert!(all.len() < size as usize);
+        // reqwest's error for a body shorter than its length, or ours for a response
+        // that ends early without one.
+        let text = e.to_string();
+        assert!(
+            text.contains("body") || text.contains("ended at byte"),
+            "{text}"
+        );
     }
 }

@@ -53,7 +53,8 @@ def _logs(inputs):
     return [path for path, _ in find_logs(inputs)]
 
 
-def convert(inputs, output, topics=None, compression="zstd", threads=None):
+def convert(inputs, output, topics=None, compression="zstd", threads=None, layout=None,
+            partition_by=None, file_size_mb=None):
     """Converts logs (paths, directories, glob patterns, ``s3://`` objects or
     prefixes, ``http(s)://`` objects) into the Parquet dataset in the folder (or under
     the ``s3://`` prefix) ``output`` (made if missing; a dataset there is added to),
@@ -63,6 +64,13 @@ def convert(inputs, output, topics=None, compression="zstd", threads=None):
     :param topics: only these topics (a log with none of them is skipped)
     :param compression: ``"zstd"`` (``ulog parquet``'s default), ``"snappy"`` or
         ``"none"``
+    :param layout: how a new dataset lays out its topic files: ``"file-per-log"``
+        (the default) or ``"fleet"`` (a topic's rows of many logs per file, in
+        partition folders; ``ulog parquet --layout fleet``); an existing dataset keeps
+        its own, and another is an error
+    :param partition_by: the fleet layout's partition folders, outermost first:
+        ``"month"`` (default), ``"vehicle"``; ``[]`` for none
+    :param file_size_mb: the fleet layout's file size (default 128)
     :returns: one ``Converted`` per log, in the order found
     :raises FileNotFoundError: an input that names nothing
     :raises ULogError: the dataset cannot be opened or its tables written
@@ -72,5 +80,8 @@ def convert(inputs, output, topics=None, compression="zstd", threads=None):
         raise ValueError("compression {!r}: one of 'zstd', 'snappy', 'none'".format(compression))
     topics = None if topics is None else [topics] if isinstance(topics, str) else list(topics)
     output = output if is_url(output) else os.fspath(output)
-    done = _core.convert_logs(logs, output, topics, compression, threads)
+    partition_by = None if partition_by is None else (
+        [partition_by] if isinstance(partition_by, str) else list(partition_by))
+    done = _core.convert_logs(logs, output, topics, compression, threads, [], layout,
+                              partition_by, file_size_mb)
     return [Converted(*d) for d in done]

@@ -73,13 +73,16 @@ def _convert_task(staging_root, topics, compression, present):
     return run
 
 
-def convert(inputs, output, spark=None, topics=None, compression="zstd", master=None):
+def convert(inputs, output, spark=None, topics=None, compression="zstd", master=None,
+            layout=None, partition_by=None, file_size_mb=None):
     """Converts logs on Spark into the Parquet dataset in the folder ``output``.
 
     :param inputs: paths, directories, glob patterns, ``s3://`` objects or prefixes
     :param spark: a ``SparkSession`` (default: one made for the run, on ``master``,
         default ``local[*]``, and stopped after)
-    :param topics: only these topics; ``compression``: as ``ulog_rs.convert``
+    :param topics: only these topics; ``compression``, ``layout``, ``partition_by``,
+        ``file_size_mb``: as ``ulog_rs.convert`` (in the fleet layout, the executors
+        convert each log into a staging dataset and the driver compacts their files)
     :returns: one ``Converted`` per log, in the order found
     """
     if is_url(os.fspath(output)):
@@ -92,7 +95,9 @@ def convert(inputs, output, spark=None, topics=None, compression="zstd", master=
     topics = None if topics is None else [topics] if isinstance(topics, str) else list(topics)
     output = os.path.abspath(os.fspath(output))
     logs = find_logs(inputs)
-    writer = _core.DatasetWriter(output, topics, compression)
+    partition_by = None if partition_by is None else (
+        [partition_by] if isinstance(partition_by, str) else list(partition_by))
+    writer = _core.DatasetWriter(output, topics, compression, layout, partition_by, file_size_mb)
     staging_root = os.path.join(output, STAGING)
     try:
         # Left by a run that died: this run holds the lock now.
@@ -158,7 +163,8 @@ def register(spark, dataset, topics=None):
     topic (or per name of ``topics``), named by its folder, read through the topic's
     union schema (``_schemas/<topic>.parquet``) so that the files of every firmware
     version read as one table: a field a version lacks is NULL there, and a field
-    whose type changed is read as the wider type. Sets ``spark.sql.caseSensitive``
+    whose type changed is read as the wider type; in the fleet layout, the partition
+    folders are columns too (``month``, ``vehicle``). Sets ``spark.sql.caseSensitive``
     (field names are case-sensitive in ULog). Returns the views' names.
 
     ``dataset`` is a folder (or any path Spark reads: ``hdfs://``, ``s3a://``…, where
@@ -198,11 +204,20 @@ def main(argv=None):
     parser.add_argument("--master", help="Spark master URL (default: local[*])")
     parser.add_argument("-m", "--messages", metavar="TOPICS", help="only these topics (comma-separated)")
     parser.add_argument("--compression", default="zstd", choices=["zstd", "snappy", "none"])
+    parser.add_argument("--layout", choices=["file-per-log", "fleet"],
+                        help="a new dataset's layout, as `ulog parquet --layout`")
+    parser.add_argument("--partition-by", metavar="KEYS",
+                        help="the fleet layout's partition folders: month, vehicle, none")
+    parser.add_argument("--file-size", type=int, metavar="MB", help="the fleet layout's file size")
     args = parser.parse_args(argv)
     topics = [t for t in args.messages.split(",") if t] if args.messages else None
+    partition_by = None
+    if args.partition_by is not None:
+        partition_by = [k for k in args.partition_by.split(",") if k and k != "none"]
     try:
         done = convert(args.inputs, args.output, topics=topics, compression=args.compression,
-                       master=args.master)
+                       master=args.master, layout=args.layout, partition_by=partition_by,
+                       file_size_mb=args.file_size)
     except (OSError, ValueError) as e:
         print("ulog_rs.spark: {}".format(e), file=sys.stderr)
         return 3 if isinstance(e, OSError) else 2
