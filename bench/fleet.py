@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """A simulated fleet: the corpus logs repeated with new ids up to N logs, converted into
-both dataset layouts (`ulog parquet`, and `ulog parquet --layout fleet`), with the files
-each makes and DuckDB's times of the README's "Fleet analysis" queries over each.
+both dataset layouts (`ulog parquet`, and `ulog parquet --layout fleet`), also fed in
+batches of `--batch` logs (a conversion each) and then compacted (`--compact`), with the
+files each makes and DuckDB's times of the README's "Fleet analysis" queries over each.
 
 Usage (from the repository root, after `cargo build --release -p ulog-cli`):
 
-    python3 bench/fleet.py [--logs 2000] [--corpus DIR] [--work DIR] [--runs 3]
+    python3 bench/fleet.py [--logs 2000] [--batch 100] [--corpus DIR] [--work DIR] [--runs 3]
 
 Each copy is a corpus log with one logged string appended (`fleet copy <n>`, a valid
 ULog message at the end of the file): a new file, so a new `log_id`, and the same
@@ -84,6 +85,8 @@ def main():
     ap.add_argument("--corpus")
     ap.add_argument("--work")
     ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--batch", type=int, default=100,
+                    help="logs per conversion of the fleet fed in batches")
     ap.add_argument("--ulog", default=os.path.join(
         os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "ulog"))
     args = ap.parse_args()
@@ -96,15 +99,27 @@ def main():
     made = make_fleet(corpus, args.logs, logs_dir)
     total = sum(os.path.getsize(p) for p in made)
 
-    layouts = {"file per log": [], "fleet (month)": ["--layout", "fleet"]}
+    fleet = ["--layout", "fleet"]
+    fed = os.path.join(work, "fed_in_batches")
+    batches = [made[i:i + args.batch] for i in range(0, len(made), args.batch)]
+    # Each row: its dataset, and the conversions that make it (timed together).
+    layouts = {
+        "file per log": ("file_per_log", [[logs_dir]]),
+        "fleet (month)": ("fleet", [[logs_dir, *fleet]]),
+        f"fleet, {len(batches)} conversions of {args.batch} logs": (
+            fed, [[*batch, *fleet] for batch in batches]),
+        "the same, then `--compact` (its time)": (fed, [["--compact"]]),
+    }
     queries = readme_queries()
     rows = {}
-    for name, extra in layouts.items():
-        dataset = os.path.join(work, re.sub(r"\W+", "_", name))
-        shutil.rmtree(dataset, ignore_errors=True)
+    for name, (dataset, runs) in layouts.items():
+        dataset = os.path.join(work, dataset)
+        if runs[0] != ["--compact"]:
+            shutil.rmtree(dataset, ignore_errors=True)
         start = time.monotonic()
-        subprocess.run([args.ulog, "parquet", logs_dir, "-o", dataset, *extra],
-                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for run in runs:
+            subprocess.run([args.ulog, "parquet", *run, "-o", dataset],
+                           check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         took = time.monotonic() - start
         count, size = files_of(dataset)
         times = []

@@ -77,7 +77,7 @@ pub struct Args {
     /// ULog files, or directories: every `.ulg` and `.ulog` file (any case) in a
     /// directory and its subdirectories is converted. `s3://BUCKET/KEY` is a log, or
     /// every log below it as a prefix; `https://…` a log.
-    #[arg(required = true, value_name = "FILE_OR_DIR")]
+    #[arg(required_unless_present = "compact", value_name = "FILE_OR_DIR")]
     inputs: Vec<PathBuf>,
     /// The dataset (a folder, made if missing; the logs it has are skipped), or an
     /// `s3://BUCKET/PREFIX` (written through a local staging folder, `logs.parquet`
@@ -137,6 +137,11 @@ pub struct Args {
         value_parser = clap::value_parser!(u64).range(1..)
     )]
     file_size: Option<u64>,
+    /// Fleet layout: also merge each partition's files smaller than half the file size
+    /// (left by conversions of a few logs at a time) into files of about that size;
+    /// with no logs given, only that. Without it, no file is rewritten.
+    #[arg(long)]
+    compact: bool,
 }
 
 /// A partition folder of the fleet layout (`--partition-by`).
@@ -188,6 +193,31 @@ struct Done {
 
 pub fn run(args: &Args) -> Result<(), Failure> {
     let jobs = plan(args)?;
+    if args.compact {
+        if args.per_log {
+            return Err(Failure::about(
+                "--compact",
+                "merges the files of a dataset: leave out --per-log",
+            ));
+        }
+        match (&args.output, jobs.is_empty()) {
+            (None, true) => {
+                return Err(Failure::about(
+                    "--compact",
+                    "name the dataset to compact with -o DATASET",
+                ))
+            }
+            (Some(dir), true)
+                if input::remote(dir)?.is_none() && !dir.join(export::LOGS_FILE).exists() =>
+            {
+                return Err(Failure::about(
+                    dir.display(),
+                    format!("no dataset to compact here (no {})", export::LOGS_FILE),
+                ))
+            }
+            _ => {}
+        }
+    }
     let names: Option<Vec<String>> = args.messages.as_ref().map(|list| {
         list.split(',')
             .filter(|s| !s.is_empty())
@@ -205,6 +235,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         threads: if jobs.len() == 1 { available } else { 1 },
         layout: layout(args)?,
+        compact: args.compact,
         ..Options::default()
     };
     // With one log, names it lacks are an error and nothing is left written; with
@@ -273,9 +304,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let shown = match target {
             Target::Local(dataset) => {
                 let dir = dataset.dir().to_owned();
-                dataset
+                let finished = dataset
                     .finish()
                     .map_err(|e| failure(&dir.display().to_string(), &e))?;
+                if let Some(c) = finished.compacted {
+                    writeln!(
+                        io::stdout(),
+                        "Compacted {}: {} small files merged into {} ({} topic files now)",
+                        dir.display(),
+                        c.merged,
+                        c.written,
+                        c.files
+                    )
+                    .map_err(stdout_err)?;
+                }
                 dir.display().to_string()
             }
             Target::Remote(remote) => {

@@ -1015,11 +1015,44 @@ fn the_fleet_layout_files_hold_logs_in_order_and_adding_logs_adds_files() {
     let whole = scratch.join("whole");
     assert!(convert(&logs, &whole, &layout).status.success());
 
-    // Every topic file: in partition folders, named after its first log, its logs in
-    // id order, a row group (or more) per log, each log's rows in time order, and
-    // the format's hash and firmware versions in its metadata.
+    let (files, shared) = fleet_files_in_order(&whole);
+    assert!(files > 0 && (shared > 0 || !cfg!(full_corpus)));
+
+    // Adding logs adds files, and rewrites none; the result holds what one conversion
+    // of all the logs holds.
+    let dir = scratch.join("added");
+    let half = logs.len() / 2;
+    assert!(convert(&logs[..half], &dir, &layout).status.success());
+    let before = common::files(&dir);
+    // The dataset keeps its layout: no `--layout` needed, another refused.
+    let other = convert(&logs[half..], &dir, &["--layout", "file-per-log"]);
+    assert!(!other.status.success());
+    let said = String::from_utf8_lossy(&other.stderr);
+    assert!(
+        said.contains("the dataset's layout is fleet:month"),
+        "{said}"
+    );
+    assert!(convert(&logs[half..], &dir, &[]).status.success());
+    let after = common::files(&dir);
+    for (path, bytes) in &before {
+        let table = path.components().count() == 1;
+        if !table && !path.starts_with("_schemas") {
+            assert_eq!(after.get(path), Some(bytes), "{} rewritten", path.display());
+        }
+    }
+    assert!(after.len() > before.len());
+    let (listed, filed) = listed_and_filed(&dir);
+    let (whole_listed, whole_filed) = listed_and_filed(&whole);
+    assert_eq!((listed, filed), (whole_listed, whole_filed));
+}
+
+/// Checks every topic file of the fleet-layout dataset `dir`: in partition folders,
+/// named after its first log, its logs in id order, a row group (or more) per log, each
+/// log's rows in time order, the format's hash and firmware versions in its metadata;
+/// and no log in two files of a folder. Its files, and those holding several logs.
+fn fleet_files_in_order(dir: &Path) -> (usize, usize) {
     let firmware: BTreeMap<String, Option<String>> = {
-        let table = read(&whole.join("logs.parquet"));
+        let table = read(&dir.join("logs.parquet"));
         let ids = table.column_by_name("log_id").unwrap().as_string::<i32>();
         let release = table
             .column_by_name("ver_sw_release")
@@ -1034,7 +1067,9 @@ fn the_fleet_layout_files_hold_logs_in_order_and_adding_logs_adds_files() {
             .collect()
     };
     let (mut files, mut shared) = (0, 0);
-    for topic in std::fs::read_dir(&whole).unwrap().flatten() {
+    // Each partition folder's logs: a log's rows of a topic are in one file.
+    let mut in_folder: BTreeMap<PathBuf, BTreeSet<String>> = BTreeMap::new();
+    for topic in std::fs::read_dir(dir).unwrap().flatten() {
         let name = topic.file_name().to_string_lossy().into_owned();
         if !topic.path().is_dir() || name.starts_with(['_', '.']) {
             continue;
@@ -1051,6 +1086,16 @@ fn the_fleet_layout_files_hold_logs_in_order_and_adding_logs_adds_files() {
             let meta = kv(&file);
             let ids: Vec<&str> = meta[export::LOG_IDS_KEY].split(',').collect();
             shared += usize::from(ids.len() > 1);
+            let folder_logs = in_folder
+                .entry(file.parent().unwrap().to_owned())
+                .or_default();
+            for id in &ids {
+                assert!(
+                    folder_logs.insert((*id).to_owned()),
+                    "{}: {id} is in another file of its folder too",
+                    file.display()
+                );
+            }
             assert_eq!(
                 file.file_stem().unwrap().to_string_lossy(),
                 ids[0],
@@ -1128,39 +1173,239 @@ fn the_fleet_layout_files_hold_logs_in_order_and_adding_logs_adds_files() {
             assert_eq!(seen, ids, "logs in the order the metadata gives");
             for (id, t) in times {
                 assert!(
-                    t.is_sorted(),
+                    t.windows(2).all(|w| w[0] <= w[1]),
                     "{}: {id}'s rows in time order",
                     file.display()
                 );
             }
         }
     }
-    assert!(files > 0 && (shared > 0 || !cfg!(full_corpus)));
+    (files, shared)
+}
 
-    // Adding logs adds files, and rewrites none; the result holds what one conversion
-    // of all the logs holds.
-    let dir = scratch.join("added");
-    let half = logs.len() / 2;
-    assert!(convert(&logs[..half], &dir, &layout).status.success());
-    let before = common::files(&dir);
-    // The dataset keeps its layout: no `--layout` needed, another refused.
-    let other = convert(&logs[half..], &dir, &["--layout", "file-per-log"]);
-    assert!(!other.status.success());
-    let said = String::from_utf8_lossy(&other.stderr);
-    assert!(
-        said.contains("the dataset's layout is fleet:month"),
-        "{said}"
-    );
-    assert!(convert(&logs[half..], &dir, &[]).status.success());
-    let after = common::files(&dir);
-    for (path, bytes) in &before {
-        let table = path.components().count() == 1;
-        if !table && !path.starts_with("_schemas") {
-            assert_eq!(after.get(path), Some(bytes), "{} rewritten", path.display());
+/// Each topic file of the dataset `dir` by its path below it: its key-value metadata
+/// and its rows as one batch. What two datasets with the same rows in the same files
+/// agree on when their bytes need not (row groups may be cut elsewhere).
+fn topic_rows(dir: &Path) -> BTreeMap<PathBuf, (BTreeMap<String, String>, RecordBatch)> {
+    let mut out = BTreeMap::new();
+    for folder in std::fs::read_dir(dir).unwrap().flatten() {
+        let name = folder.file_name().to_string_lossy().into_owned();
+        if !folder.path().is_dir() || name.starts_with(['_', '.']) {
+            continue;
+        }
+        for file in topic_folder_files(&folder.path()) {
+            let mut meta = kv(&file);
+            meta.remove("ARROW:schema");
+            let builder =
+                ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap())
+                    .unwrap();
+            let rows = builder.metadata().file_metadata().num_rows().max(1) as usize;
+            let schema = builder.schema().clone();
+            let mut batches: Vec<RecordBatch> = builder
+                .with_batch_size(rows)
+                .build()
+                .unwrap()
+                .map(Result::unwrap)
+                .collect();
+            assert!(batches.len() <= 1, "{}: one batch", file.display());
+            let batch = batches
+                .pop()
+                .unwrap_or_else(|| RecordBatch::new_empty(schema));
+            out.insert(file.strip_prefix(dir).unwrap().to_owned(), (meta, batch));
         }
     }
-    assert!(after.len() > before.len());
-    let (listed, filed) = listed_and_filed(&dir);
-    let (whole_listed, whole_filed) = listed_and_filed(&whole);
-    assert_eq!((listed, filed), (whole_listed, whole_filed));
+    out
+}
+
+/// `ulog parquet --compact -o DIR`: the output.
+fn compact(dir: &Path) -> std::process::Output {
+    convert(&[], dir, &["--compact"])
+}
+
+/// In the scratch folder `name`: the corpus converted in the fleet layout at once
+/// (`whole`), and a log at a time (`steps`: a file per topic and log, as many as the
+/// file-per-log layout has); the scratch folder, the logs, `whole` and `steps`.
+fn whole_and_steps(name: &str) -> (PathBuf, Vec<PathBuf>, PathBuf, PathBuf) {
+    let scratch = common::scratch(name);
+    let logs = logs();
+    let layout = ["--layout", "fleet"];
+    let whole = scratch.join("whole");
+    assert!(convert(&logs, &whole, &layout).status.success());
+    let steps = scratch.join("steps");
+    for log in &logs {
+        assert!(convert(std::slice::from_ref(log), &steps, &layout)
+            .status
+            .success());
+    }
+    (scratch, logs, whole, steps)
+}
+
+#[test]
+fn compacting_merges_the_small_files_of_logs_added_one_at_a_time() {
+    let (scratch, logs, whole, dir) = whole_and_steps("fleet_compact");
+    let before = topic_rows(&dir);
+    let merged = topic_rows(&whole);
+    assert!(before.len() >= merged.len());
+
+    // What is not a compaction of a local fleet dataset is refused, saying why.
+    let refused = [
+        (
+            convert(&[], &scratch.join("none"), &["--compact"]),
+            "no dataset to compact here",
+        ),
+        (
+            convert(&[], &dir, &["--compact", "--per-log"]),
+            "leave out --per-log",
+        ),
+        (
+            common::ulog(["parquet", "--compact"]),
+            "name the dataset to compact with -o DATASET",
+        ),
+    ];
+    for (out, says) in refused {
+        assert!(!out.status.success());
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(said.contains(says), "{said}");
+    }
+    let flat = scratch.join("flat");
+    assert!(convert(&logs[..1], &flat, &[]).status.success());
+    let out = compact(&flat);
+    assert!(!out.status.success());
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("has a file per topic and log"), "{said}");
+
+    // Compacted: the files one conversion of every log writes, with the same rows in
+    // the same order and the same metadata; the tables untouched.
+    let tables = |dir: &Path| -> BTreeMap<PathBuf, Vec<u8>> {
+        common::files(dir)
+            .into_iter()
+            .filter(|(p, _)| p.components().count() == 1 || p.starts_with("_schemas"))
+            .collect()
+    };
+    let tables_before = tables(&dir);
+    let out = compact(&dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let said = String::from_utf8_lossy(&out.stdout);
+    let after = topic_rows(&dir);
+    assert!(
+        said.contains(&format!("({} topic files now)", after.len())),
+        "{said}"
+    );
+    assert_eq!(tables(&dir), tables_before);
+    assert_eq!(
+        after.keys().collect::<Vec<_>>(),
+        merged.keys().collect::<Vec<_>>()
+    );
+    for (path, (meta, rows)) in &after {
+        let (want_meta, want_rows) = &merged[path];
+        assert_eq!(meta, want_meta, "{}", path.display());
+        assert!(rows == want_rows, "{}: other rows", path.display());
+    }
+    if cfg!(full_corpus) {
+        assert!(after.len() < before.len(), "files were merged");
+    }
+    fleet_files_in_order(&dir);
+    assert_eq!(listed_and_filed(&dir), listed_and_filed(&whole));
+
+    // Again: nothing to merge; adding a log afterwards adds files.
+    let out = compact(&dir);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("0 small files merged into 0"));
+    assert_eq!(topic_rows(&dir).len(), after.len());
+}
+
+#[test]
+fn a_compaction_that_died_is_finished_by_the_next_conversion() {
+    let (scratch, logs, whole, steps) = whole_and_steps("fleet_compact_died");
+    let merged = topic_rows(&whole);
+
+    // Killed between a merged file's rename and the removal of the files it holds:
+    // those are put back beside it with the marker, as a compaction that died there
+    // leaves them; and a merged file still under its temporary name.
+    let dir = scratch.join("died");
+    copy_dir(&steps, &dir);
+    assert!(compact(&dir).status.success());
+    let after = common::files(&dir);
+    let mut restored = 0;
+    for (path, _) in common::files(&steps) {
+        let is_topic = path.components().count() > 1 && !path.starts_with("_schemas");
+        if is_topic && !after.contains_key(&path) {
+            std::fs::copy(steps.join(&path), dir.join(&path)).unwrap();
+            restored += 1;
+        }
+    }
+    if cfg!(full_corpus) {
+        assert!(restored > 0);
+    }
+    std::fs::write(dir.join(export::COMPACTING), b"").unwrap();
+    let partial = merged
+        .keys()
+        .next()
+        .unwrap()
+        .with_extension("parquet.partial");
+    std::fs::write(dir.join(&partial), b"PAR1").unwrap();
+    // Any conversion opening the dataset finishes it: here one adding a log it has.
+    assert!(convert(&logs[..1], &dir, &[]).status.success());
+    assert!(!dir.join(export::COMPACTING).exists());
+    assert!(!dir.join(&partial).exists());
+    let got = topic_rows(&dir);
+    assert_eq!(
+        got.keys().collect::<Vec<_>>(),
+        merged.keys().collect::<Vec<_>>()
+    );
+    for (path, (_, rows)) in &got {
+        assert!(*rows == merged[path].1, "{}: other rows", path.display());
+    }
+    fleet_files_in_order(&dir);
+
+    // Killed by SIGKILL at points of a compaction, then compacted again: the same.
+    let took = {
+        let probe = scratch.join("probe");
+        copy_dir(&steps, &probe);
+        let started = std::time::Instant::now();
+        assert!(compact(&probe).status.success());
+        started.elapsed()
+    };
+    for (i, fraction) in [0.2, 0.5, 0.8, 0.95].into_iter().enumerate() {
+        let dir = scratch.join(format!("killed{i}"));
+        copy_dir(&steps, &dir);
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
+            .args(["parquet", "--compact", "-o"])
+            .arg(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(took.mul_f64(fraction));
+        let _ = child.kill();
+        let _ = child.wait();
+        let out = compact(&dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let got = topic_rows(&dir);
+        assert_eq!(
+            got.keys().collect::<Vec<_>>(),
+            merged.keys().collect::<Vec<_>>(),
+            "killed at {fraction}"
+        );
+        for (path, (_, rows)) in &got {
+            assert!(*rows == merged[path].1, "{}: other rows", path.display());
+        }
+        assert_eq!(listed_and_filed(&dir), listed_and_filed(&whole));
+    }
+}
+
+/// Copies the folder `from` to `to`, recursively.
+fn copy_dir(from: &Path, to: &Path) {
+    for (path, _) in common::files(from) {
+        let target = to.join(&path);
+        std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+        std::fs::copy(from.join(&path), &target).unwrap();
+    }
 }

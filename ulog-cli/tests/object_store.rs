@@ -556,6 +556,12 @@ fn a_fleet_layout_dataset_written_to_s3_is_the_local_one() {
     assert!(!other.status.success());
     let said = String::from_utf8_lossy(&other.stderr);
     assert!(said.contains("layout"), "{said}");
+
+    // Compaction rewrites files in place: refused in a store, saying what to do.
+    let compact = server.ulog(["parquet", "--compact", "-o", "s3://fleet/ds"]);
+    assert!(!compact.status.success());
+    let said = String::from_utf8_lossy(&compact.stderr);
+    assert!(said.contains("compact a local copy"), "{said}");
 }
 
 #[test]

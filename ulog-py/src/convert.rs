@@ -22,14 +22,17 @@ use crate::{guarded, ULogError};
 pub type Outcome = (String, Option<String>, &'static str, usize, Option<String>);
 
 /// The options of a dataset as `ulog parquet` sets them: `topics` only (a log that
-/// has none of them is skipped); `compression`: `zstd`, `snappy` or `none`.
-fn options(
+/// has none of them is skipped); `compression`: `zstd`, `snappy` or `none`; `compact`:
+/// the fleet layout's small files merged at the end (`ulog parquet --compact`).
+pub fn options(
     topics: Option<Vec<String>>,
     compression: &str,
     layout: Option<DatasetLayout>,
+    compact: bool,
 ) -> Options {
     Options {
         layout,
+        compact,
         topics,
         compression: match compression {
             "snappy" => Compression::Snappy,
@@ -135,7 +138,7 @@ impl Target {
 
     fn finish(self) -> PyResult<()> {
         match self {
-            Target::Local(d) => d.finish().map_err(|e| export_error(&e)),
+            Target::Local(d) => d.finish().map(|_| ()).map_err(|e| export_error(&e)),
             Target::Remote(r) => r.finish().map(|_| ()).map_err(|e| store_error(&e)),
         }
     }
@@ -169,13 +172,11 @@ fn add(dataset: &Dataset, log: &str) -> Result<Added, String> {
 pub fn convert(
     logs: &[String],
     output: &str,
-    topics: Option<Vec<String>>,
-    compression: &str,
+    options: &Options,
     threads: usize,
     present: Vec<String>,
-    layout: Option<DatasetLayout>,
 ) -> PyResult<Vec<Outcome>> {
-    let target = Target::open(output, &options(topics, compression, layout))?;
+    let target = Target::open(output, options)?;
     let dataset = target.dataset();
     dataset.assume_present(present);
     let sizes: Vec<u64> = logs
@@ -236,7 +237,8 @@ impl DatasetWriter {
     /// Opens (and locks) the dataset in the folder `output`, with the options of
     /// `ulog_rs.convert`.
     #[new]
-    #[pyo3(signature = (output, topics=None, compression="zstd", layout=None, partition_by=None, file_size_mb=None))]
+    #[pyo3(signature = (output, topics=None, compression="zstd", layout=None, partition_by=None, file_size_mb=None, compact=false))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         output: PathBuf,
@@ -245,9 +247,10 @@ impl DatasetWriter {
         layout: Option<&str>,
         partition_by: Option<Vec<String>>,
         file_size_mb: Option<u64>,
+        compact: bool,
     ) -> PyResult<DatasetWriter> {
         let layout = layout_of(layout, partition_by, file_size_mb)?;
-        let options = options(topics, compression, layout);
+        let options = options(topics, compression, layout, compact);
         let dataset = guarded(|| {
             py.detach(|| Dataset::open(&output, &options))
                 .map_err(|e| export_error(&e))

@@ -192,7 +192,7 @@ fn align<'py>(
 /// Converts the logs at `logs` into the Parquet dataset `output` (see
 /// `ulog_rs.convert`); returns one `(path, log_id, status, rows, error)` per log.
 #[pyfunction]
-#[pyo3(signature = (logs, output, topics=None, compression="zstd", threads=None, present=Vec::new(), layout=None, partition_by=None, file_size_mb=None))]
+#[pyo3(signature = (logs, output, topics=None, compression="zstd", threads=None, present=Vec::new(), layout=None, partition_by=None, file_size_mb=None, compact=false))]
 #[allow(clippy::too_many_arguments)]
 fn convert_logs(
     py: Python<'_>,
@@ -205,23 +205,13 @@ fn convert_logs(
     layout: Option<&str>,
     partition_by: Option<Vec<String>>,
     file_size_mb: Option<u64>,
+    compact: bool,
 ) -> PyResult<Vec<convert::Outcome>> {
     let layout = convert::layout_of(layout, partition_by, file_size_mb)?;
+    let options = convert::options(topics, compression, layout, compact);
     let threads =
         threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    guarded(|| {
-        py.detach(|| {
-            convert::convert(
-                &logs,
-                &output,
-                topics,
-                compression,
-                threads,
-                present,
-                layout,
-            )
-        })
-    })
+    guarded(|| py.detach(|| convert::convert(&logs, &output, &options, threads, present)))
 }
 
 /// The flight analysis of a log (`ulog_core::analysis::analyze`, the code `ulog

@@ -11,7 +11,7 @@ import pytest
 pq = pytest.importorskip("pyarrow.parquet")
 import ulog_rs
 
-from conftest import OWN, missing, ulog_binary
+from conftest import OWN, missing, table_rows, ulog_binary
 
 
 def files(root):
@@ -93,6 +93,44 @@ def test_convert_in_the_fleet_layout_writes_what_ulog_parquet_writes(tmp_path):
     with pytest.raises(ulog_rs.ULogError, match="layout"):
         ulog_rs.convert(logs, ours, layout="file-per-log")
     assert [d.status for d in ulog_rs.convert(logs, ours)] == ["present"] * len(logs)
+
+
+def test_compacting_merges_small_files_as_ulog_parquet_compact_does(tmp_path):
+    exe = ulog_binary()
+    if exe is None:
+        missing("the `ulog` binary (cargo build -p ulog-cli) is not built")
+    logs = sorted(OWN.glob("*.ulg"))
+    ours, theirs, whole = tmp_path / "ours", tmp_path / "theirs", tmp_path / "whole"
+    # A log at a time (a file per topic and log), then compacted.
+    driver = tmp_path / "driver"
+    for log in logs:
+        ulog_rs.convert([log], ours, layout="fleet", partition_by=[])
+        ulog_rs.convert([log], driver, layout="fleet", partition_by=[])
+        subprocess.run([str(exe), "parquet", str(log), "-o", str(theirs), "--layout", "fleet",
+                        "--partition-by", "none"], check=True, capture_output=True)
+    before = files(ours)
+    assert ulog_rs.convert([], ours, compact=True) == []
+    subprocess.run([str(exe), "parquet", "--compact", "-o", str(theirs)], check=True,
+                   capture_output=True)
+    # A Spark driver's writer (`python -m ulog_rs.spark --compact`) compacts at its end.
+    ulog_rs._core.DatasetWriter(str(driver), compact=True).finish()
+    assert files(ours) == files(theirs) == files(driver)
+    for rel in files(ours):
+        assert (ours / rel).read_bytes() == (theirs / rel).read_bytes(), rel
+        assert (driver / rel).read_bytes() == (theirs / rel).read_bytes(), rel
+    assert len(files(ours)) < len(before)
+    # The rows of one conversion of every log, in the same files and order.
+    ulog_rs.convert(logs, whole, layout="fleet", partition_by=[])
+    assert files(ours) == files(whole)
+    for rel in files(ours):
+        if len(rel.parts) > 1 and not rel.parts[0].startswith("_"):
+            mine, one = pq.read_table(ours / rel), pq.read_table(whole / rel)
+            assert mine.schema == one.schema, rel
+            assert table_rows(mine) == table_rows(one), rel
+    with pytest.raises(FileNotFoundError, match="no dataset to compact"):
+        ulog_rs.convert([], tmp_path / "none", compact=True)
+    with pytest.raises(ulog_rs.ULogError, match="file per topic and log"):
+        ulog_rs.convert(logs[:1], tmp_path / "flat", compact=True)
 
 
 @pytest.mark.parametrize("kwargs", [

@@ -19,6 +19,7 @@ use parquet::arrow::ArrowWriter;
 use parquet::file::metadata::KeyValue as ParquetKeyValue;
 use sha2::{Digest, Sha256};
 
+use super::compaction::{compact_small_files, not_fleet, remove_superseded, Compacted};
 use super::error::{ExportError, ExportErrorKind};
 use super::files::{compression_of, write_error};
 use super::fleet::{compact, DatasetLayout, FleetLayout, LogPlace, PENDING_DIR};
@@ -86,6 +87,8 @@ const LOG_ID_RULE: &str = "xxh3-64";
 /// (`<topic>/month=2024-05/<log_id>.parquet`, named after their first log): the
 /// logs' files are written into [`PENDING_DIR`](super::PENDING_DIR) as they are added
 /// and compacted by [`Dataset::finish`]; a dataset keeps the layout it was made with.
+/// With [`Options::compact`], `finish` then merges the small files that logs added a
+/// few at a time leave ([`Finished::compacted`]).
 ///
 /// - [`SCHEMAS_DIR`](super::SCHEMAS_DIR)`/<topic>.parquet`: each topic's union schema
 ///   over all its files ([`union_schema`](super::union_schema)), no rows, widened as
@@ -157,6 +160,14 @@ struct State {
     new: BTreeMap<String, Vec<PathBuf>>,
 }
 
+/// What [`Dataset::finish`] did besides writing the tables.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Finished {
+    /// What the compaction asked for by [`Options::compact`] did.
+    pub compacted: Option<Compacted>,
+}
+
 /// What [`Dataset::add`] did.
 #[derive(Debug)]
 #[non_exhaustive]
@@ -207,6 +218,12 @@ impl Dataset {
         }
         state.ids = state.tables[0].keys().cloned().collect();
         let layout = resolve_layout(&dir, options.layout.as_ref())?;
+        if options.compact && !matches!(layout, DatasetLayout::Fleet(_)) {
+            return Err(not_fleet(&dir));
+        }
+        // A compaction that died between a merged file and the removal of its
+        // sources: their logs are in the merged file.
+        remove_superseded(&dir)?;
         remove_unlisted(&dir, &state.ids)?;
         // A conversion that died before it compacted its logs' files.
         let pending = dir.join(PENDING_DIR);
@@ -441,11 +458,13 @@ impl Dataset {
     }
 
     /// In the fleet layout, compacts the files of the logs added into the partition
-    /// folders; then writes the union schemas of their topics
+    /// folders (and with [`Options::compact`], merges the small files of every
+    /// partition); then writes the union schemas of their topics
     /// ([`SCHEMAS_DIR`](super::SCHEMAS_DIR)), then the tables: the rows they had and
     /// those of the logs added, the table of logs last.
-    pub fn finish(self) -> Result<()> {
+    pub fn finish(self) -> Result<Finished> {
         let mut state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        let mut finished = Finished::default();
         if let DatasetLayout::Fleet(fleet) = &self.layout {
             let places = LogPlace::of_logs(&state.tables[0]);
             state.new = compact(
@@ -484,7 +503,19 @@ impl Dataset {
                 let _ = std::fs::remove_file(partial);
             }
         }
-        result
+        result?;
+        // After the commit: every log of the files it merges is listed, so that a
+        // compaction that dies leaves no row of a log the dataset does not have.
+        if let (DatasetLayout::Fleet(fleet), true) = (&self.layout, self.options.compact) {
+            let places = LogPlace::of_logs(&state.tables[0]);
+            finished.compacted = Some(compact_small_files(
+                &self.dir,
+                &places,
+                fleet,
+                self.options.compression,
+            )?);
+        }
+        Ok(finished)
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, State> {
@@ -553,7 +584,7 @@ fn write_union_schemas(
 }
 
 /// Whether `name` is a log's topic file, `<log_id>.parquet`: its id.
-fn topic_file_id(name: &str) -> Option<&str> {
+pub(super) fn topic_file_id(name: &str) -> Option<&str> {
     let id = name.strip_suffix(".parquet")?;
     (id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit())).then_some(id)
 }

@@ -10,7 +10,8 @@
 //! the topic, and is named after its first log (`<log_id>.parquet`): a file whose
 //! first log the table of logs does not list was left by a conversion that died before
 //! its commit, and the next one removes it as it removes a log's own file. Files are
-//! never rewritten: adding logs adds files.
+//! not rewritten: adding logs adds files, until a conversion asks for the small ones to
+//! be merged ([`Options::compact`](super::Options::compact), `compaction.rs`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;
@@ -229,7 +230,7 @@ fn hive_escape(value: &str) -> String {
 /// kilobytes: with a row group per log, the footers were 95 MB of the 1,550 MB of a
 /// fleet of 2,000 logs (`bench/fleet.py`), and 0.8 MB of a 2.2 MB file of
 /// `vehicle_status` (420 logs).
-const ROW_GROUP_BYTES: usize = 4 << 20;
+pub(super) const ROW_GROUP_BYTES: usize = 4 << 20;
 
 /// One log's file of a topic, waiting in [`PENDING_DIR`].
 struct Pending<'a> {
@@ -251,38 +252,49 @@ pub(super) fn compact(
 ) -> Result<BTreeMap<String, Vec<PathBuf>>> {
     // A topic per thread at a time: compaction decodes and encodes every new row again.
     let folders: Vec<(&String, &Vec<PathBuf>)> = new.iter().collect();
+    let results = each_folder(&folders, |(folder, files)| {
+        let out = compact_folder(dir, folder, files, places, layout, compression)?;
+        Ok(((*folder).clone(), out))
+    });
+    let mut written = BTreeMap::new();
+    for result in results {
+        let (folder, files) = result?;
+        written.insert(folder, files);
+    }
+    Ok(written)
+}
+
+/// `work` of each item of `items`, on as many threads as there are CPUs (an item per
+/// thread at a time): the results, in no particular order.
+pub(super) fn each_folder<T: Sync, R: Send>(
+    items: &[T],
+    work: impl Fn(&T) -> Result<R> + Sync,
+) -> Vec<Result<R>> {
     let next = std::sync::atomic::AtomicUsize::new(0);
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
-        .min(folders.len())
+        .min(items.len())
         .max(1);
-    type Compacted = Vec<(String, Vec<PathBuf>)>;
-    let results: Vec<Result<Compacted>> = std::thread::scope(|s| {
+    std::thread::scope(|s| {
         let workers: Vec<_> = (0..threads)
             .map(|_| {
                 s.spawn(|| {
                     let mut done = Vec::new();
                     loop {
                         let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some((folder, files)) = folders.get(i) else {
-                            return Ok(done);
+                        let Some(item) = items.get(i) else {
+                            return done;
                         };
-                        let out = compact_folder(dir, folder, files, places, layout, compression)?;
-                        done.push(((*folder).clone(), out));
+                        done.push(work(item));
                     }
                 })
             })
             .collect();
         workers
             .into_iter()
-            .map(|w| w.join().expect("a compaction thread does not panic"))
+            .flat_map(|w| w.join().expect("a compaction thread does not panic"))
             .collect()
-    });
-    let mut written = BTreeMap::new();
-    for result in results {
-        written.extend(result?);
-    }
-    Ok(written)
+    })
 }
 
 /// Compacts the pending files of one topic folder: the files written.
@@ -315,13 +327,7 @@ fn compact_folder(
             schema,
             place,
         };
-        match part
-            .iter_mut()
-            .find(|g| same_format(&g[0].schema, &pending.schema))
-        {
-            Some(group) => group.push(pending),
-            None => part.push(vec![pending]),
-        }
+        by_format(part, pending, |p| &p.schema);
     }
     let mut out = Vec::new();
     for (partition, part) in groups {
@@ -334,6 +340,18 @@ fn compact_folder(
     Ok(out)
 }
 
+/// Puts `item` into the group of `groups` whose format (`schema`) is its own, or into
+/// a new one.
+pub(super) fn by_format<T>(groups: &mut Vec<Vec<T>>, item: T, schema: impl Fn(&T) -> &SchemaRef) {
+    match groups
+        .iter_mut()
+        .find(|g| same_format(schema(&g[0]), schema(&item)))
+    {
+        Some(group) => group.push(item),
+        None => groups.push(vec![item]),
+    }
+}
+
 /// Whether two logs' files of a topic can share a file: the same columns, and the same
 /// format as the logs define it.
 fn same_format(a: &Schema, b: &Schema) -> bool {
@@ -341,14 +359,14 @@ fn same_format(a: &Schema, b: &Schema) -> bool {
 }
 
 /// The Arrow schema of a Parquet file (its key-value metadata as the schema's).
-fn file_schema(path: &Path) -> Result<SchemaRef> {
+pub(super) fn file_schema(path: &Path) -> Result<SchemaRef> {
     let file = File::open(path).map_err(|e| ExportError::io(e, path))?;
     let builder =
         ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| unreadable(path, e))?;
     Ok(builder.schema().clone())
 }
 
-fn unreadable(path: &Path, e: impl std::fmt::Display) -> ExportError {
+pub(super) fn unreadable(path: &Path, e: impl std::fmt::Display) -> ExportError {
     ExportError::new(ExportErrorKind::Dataset {
         what: format!("a topic file to compact cannot be read back: {e}"),
     })
@@ -417,17 +435,17 @@ fn write_group(
 }
 
 /// A fleet file being written.
-struct Open {
-    path: PathBuf,
+pub(super) struct Open {
+    pub path: PathBuf,
     partial: PathBuf,
     /// `None` once closed.
     writer: Option<ArrowWriter<std::io::BufWriter<File>>>,
-    logs: Vec<String>,
-    firmware: BTreeSet<String>,
+    pub logs: Vec<String>,
+    pub firmware: BTreeSet<String>,
 }
 
 impl Open {
-    fn create(
+    pub fn create(
         target: &Path,
         first: &str,
         schema: &SchemaRef,
@@ -453,7 +471,7 @@ impl Open {
 
     /// Closes the file, with its logs and firmware versions in its metadata, and
     /// renames it into place.
-    fn close(mut self) -> Result<PathBuf> {
+    pub fn close(mut self) -> Result<PathBuf> {
         let firmware: Vec<&str> = self.firmware.iter().map(String::as_str).collect();
         let mut writer = self.writer.take().expect("closed once");
         writer
@@ -473,7 +491,7 @@ impl Open {
         closed.map(|()| std::mem::take(&mut self.path))
     }
 
-    fn writer(&mut self) -> &mut ArrowWriter<std::io::BufWriter<File>> {
+    pub fn writer(&mut self) -> &mut ArrowWriter<std::io::BufWriter<File>> {
         self.writer.as_mut().expect("open until closed")
     }
 }

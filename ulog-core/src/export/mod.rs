@@ -63,6 +63,7 @@
 //! ```
 
 mod arrow;
+mod compaction;
 mod dataset;
 mod error;
 mod files;
@@ -85,8 +86,9 @@ pub use parquet;
 use arrow_array::RecordBatch;
 use arrow_schema::SchemaRef;
 
+pub use compaction::{Compacted, COMPACTING};
 pub use dataset::{
-    Added, Dataset, LogPath, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE,
+    Added, Dataset, Finished, LogPath, FORMATS_FILE, LOGS_FILE, MESSAGES_FILE, PARAMETERS_FILE,
 };
 pub use files::{write_topic, writer_properties, Export, Skipped, Written};
 pub use fleet::{
@@ -171,6 +173,12 @@ pub struct Options {
     /// than its own (the file size of [`FleetLayout`] may change from one conversion
     /// to the next). Not used outside a dataset.
     pub layout: Option<DatasetLayout>,
+    /// In a fleet-layout dataset, [`Dataset::finish`] also merges each topic
+    /// partition's files smaller than half of [`FleetLayout::file_bytes`] into files of
+    /// about that size ([`Compacted`]): the small files that adding a few logs at a
+    /// time leaves. Without it, no file is ever rewritten. An error for a dataset with
+    /// a file per log. Not used outside a dataset.
+    pub compact: bool,
 }
 
 impl Default for Options {
@@ -187,6 +195,7 @@ impl Default for Options {
             utc: None,
             log_id: None,
             layout: None,
+            compact: false,
         }
     }
 }

@@ -11,6 +11,7 @@ use crate::export::{
     Dataset, Options, ANALYSIS_FILE, FLIGHTS_FILE, FORMATS_FILE, LOCK_FILE, LOGS_FILE,
     MESSAGES_FILE, PARAMETERS_FILE, SCHEMAS_DIR,
 };
+use crate::export::{ExportError, ExportErrorKind};
 
 type Result<T, E = StoreError> = core::result::Result<T, E>;
 
@@ -70,6 +71,16 @@ impl RemoteDataset {
     /// its tables read back into a local staging folder, and the files a conversion
     /// that died left behind removed.
     pub fn open(remote: Remote, options: &Options) -> Result<RemoteDataset> {
+        if options.compact {
+            // Merging reads and rewrites the topic files, which are not staged here.
+            let what = "compaction rewrites topic files in place: compact a local copy of \
+                        the dataset, or convert into a local folder"
+                .to_owned();
+            return Err(StoreError::export(
+                ExportError::new(ExportErrorKind::Dataset { what }),
+                remote.url(),
+            ));
+        }
         let lock = remote.join(LOCK_FILE);
         take_lock(&remote, &lock)?;
         let mut staged = RemoteDataset {

@@ -54,7 +54,7 @@ def _logs(inputs):
 
 
 def convert(inputs, output, topics=None, compression="zstd", threads=None, layout=None,
-            partition_by=None, file_size_mb=None):
+            partition_by=None, file_size_mb=None, compact=False):
     """Converts logs (paths, directories, glob patterns, ``s3://`` objects or
     prefixes, ``http(s)://`` objects) into the Parquet dataset in the folder (or under
     the ``s3://`` prefix) ``output`` (made if missing; a dataset there is added to),
@@ -71,11 +71,17 @@ def convert(inputs, output, topics=None, compression="zstd", threads=None, layou
     :param partition_by: the fleet layout's partition folders, outermost first:
         ``"month"`` (default), ``"vehicle"``; ``[]`` for none
     :param file_size_mb: the fleet layout's file size (default 128)
+    :param compact: in the fleet layout, also merge each partition's files smaller than
+        half the file size (left by conversions of a few logs at a time) into files of
+        about that size (``ulog parquet --compact``); with no inputs, only that
     :returns: one ``Converted`` per log, in the order found
     :raises FileNotFoundError: an input that names nothing
     :raises ULogError: the dataset cannot be opened or its tables written
     """
     logs = _logs(inputs)
+    if compact and not logs and not is_url(output) and not os.path.exists(
+            os.path.join(os.fspath(output), "logs.parquet")):
+        raise FileNotFoundError("{}: no dataset to compact here (no logs.parquet)".format(output))
     if compression not in ("zstd", "snappy", "none"):
         raise ValueError("compression {!r}: one of 'zstd', 'snappy', 'none'".format(compression))
     topics = None if topics is None else [topics] if isinstance(topics, str) else list(topics)
@@ -83,5 +89,5 @@ def convert(inputs, output, topics=None, compression="zstd", threads=None, layou
     partition_by = None if partition_by is None else (
         [partition_by] if isinstance(partition_by, str) else list(partition_by))
     done = _core.convert_logs(logs, output, topics, compression, threads, [], layout,
-                              partition_by, file_size_mb)
+                              partition_by, file_size_mb, compact)
     return [Converted(*d) for d in done]

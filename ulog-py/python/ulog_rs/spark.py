@@ -74,7 +74,7 @@ def _convert_task(staging_root, topics, compression, present):
 
 
 def convert(inputs, output, spark=None, topics=None, compression="zstd", master=None,
-            layout=None, partition_by=None, file_size_mb=None):
+            layout=None, partition_by=None, file_size_mb=None, compact=False):
     """Converts logs on Spark into the Parquet dataset in the folder ``output``.
 
     :param inputs: paths, directories, glob patterns, ``s3://`` objects or prefixes
@@ -82,7 +82,8 @@ def convert(inputs, output, spark=None, topics=None, compression="zstd", master=
         default ``local[*]``, and stopped after)
     :param topics: only these topics; ``compression``, ``layout``, ``partition_by``,
         ``file_size_mb``: as ``ulog_rs.convert`` (in the fleet layout, the executors
-        convert each log into a staging dataset and the driver compacts their files)
+        convert each log into a staging dataset and the driver compacts their files);
+        ``compact``: as ``ulog_rs.convert``, done by the driver at the end
     :returns: one ``Converted`` per log, in the order found
     """
     if is_url(os.fspath(output)):
@@ -97,7 +98,8 @@ def convert(inputs, output, spark=None, topics=None, compression="zstd", master=
     logs = find_logs(inputs)
     partition_by = None if partition_by is None else (
         [partition_by] if isinstance(partition_by, str) else list(partition_by))
-    writer = _core.DatasetWriter(output, topics, compression, layout, partition_by, file_size_mb)
+    writer = _core.DatasetWriter(output, topics, compression, layout, partition_by, file_size_mb,
+                                 compact)
     staging_root = os.path.join(output, STAGING)
     try:
         # Left by a run that died: this run holds the lock now.
@@ -209,6 +211,8 @@ def main(argv=None):
     parser.add_argument("--partition-by", metavar="KEYS",
                         help="the fleet layout's partition folders: month, vehicle, none")
     parser.add_argument("--file-size", type=int, metavar="MB", help="the fleet layout's file size")
+    parser.add_argument("--compact", action="store_true",
+                        help="also merge the fleet layout's small files, as `ulog parquet --compact`")
     args = parser.parse_args(argv)
     topics = [t for t in args.messages.split(",") if t] if args.messages else None
     partition_by = None
@@ -217,7 +221,7 @@ def main(argv=None):
     try:
         done = convert(args.inputs, args.output, topics=topics, compression=args.compression,
                        master=args.master, layout=args.layout, partition_by=partition_by,
-                       file_size_mb=args.file_size)
+                       file_size_mb=args.file_size, compact=args.compact)
     except (OSError, ValueError) as e:
         print("ulog_rs.spark: {}".format(e), file=sys.stderr)
         return 3 if isinstance(e, OSError) else 2
