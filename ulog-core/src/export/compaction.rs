@@ -24,7 +24,7 @@ use arrow_schema::{Schema, SchemaRef};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
 use super::error::{ExportError, ExportErrorKind};
-use super::files::write_error;
+use super::files::{topic_file_id, write_error};
 use super::fleet::{
     by_format, each_folder, file_schema, unreadable, LogPlace, Open, FIRMWARE_KEY, FORMAT_HASH_KEY,
     LOG_IDS_KEY, ROW_GROUP_BYTES,
@@ -160,7 +160,7 @@ fn read_dir(dir: &Path) -> Result<Vec<(String, bool, PathBuf)>> {
 fn topic_files(folder: &Path) -> Result<Vec<(PathBuf, u64)>> {
     let mut files: Vec<(PathBuf, u64)> = Vec::new();
     for (name, is_dir, path) in read_dir(folder)? {
-        if !is_dir && super::dataset::topic_file_id(&name).is_some() {
+        if !is_dir && topic_file_id(&name).is_some() {
             let bytes = std::fs::metadata(&path)
                 .map_err(|e| ExportError::io(e, &path))?
                 .len();

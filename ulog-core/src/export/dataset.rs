@@ -21,7 +21,7 @@ use sha2::{Digest, Sha256};
 
 use super::compaction::{compact_small_files, not_fleet, remove_superseded, Compacted};
 use super::error::{ExportError, ExportErrorKind};
-use super::files::{compression_of, write_error};
+use super::files::{compression_of, topic_file_id, write_error};
 use super::fleet::{compact, DatasetLayout, FleetLayout, LogPlace, PENDING_DIR};
 use super::lock::{partial_name, DatasetLock};
 use super::metadata::Facts;
@@ -581,12 +581,6 @@ fn write_union_schemas(
         written?;
     }
     Ok(())
-}
-
-/// Whether `name` is a log's topic file, `<log_id>.parquet`: its id.
-pub(super) fn topic_file_id(name: &str) -> Option<&str> {
-    let id = name.strip_suffix(".parquet")?;
-    (id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit())).then_some(id)
 }
 
 /// The topic files in the dataset folder `dir` (`<folder>/<log_id>.parquet`), by

@@ -270,3 +270,10 @@ impl std::fmt::Display for ExternalError {
 }
 
 impl std::error::Error for ExternalError {}
+
+/// Whether `name` is a topic file of a dataset, `<log_id>.parquet` (in the fleet layout
+/// named after its first log): that id.
+pub(super) fn topic_file_id(name: &str) -> Option<&str> {
+    let id = name.strip_suffix(".parquet")?;
+    (id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit())).then_some(id)
+}
