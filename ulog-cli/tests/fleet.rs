@@ -1283,6 +1283,8 @@ fn compacting_merges_the_small_files_of_logs_added_one_at_a_time() {
             .collect()
     };
     let tables_before = tables(&dir);
+    let kept = scratch.join("before_compaction");
+    copy_dir(&dir, &kept);
     let out = compact(&dir);
     assert!(
         out.status.success(),
@@ -1311,10 +1313,26 @@ fn compacting_merges_the_small_files_of_logs_added_one_at_a_time() {
     fleet_files_in_order(&dir);
     assert_eq!(listed_and_filed(&dir), listed_and_filed(&whole));
 
-    // Again: nothing to merge; adding a log afterwards adds files.
+    // Again: nothing to merge.
     let out = compact(&dir);
     assert!(String::from_utf8_lossy(&out.stdout).contains("0 small files merged into 0"));
     assert_eq!(topic_rows(&dir).len(), after.len());
+
+    // A log in two files of a folder (a file put back by hand, no compaction under
+    // way): refused, naming both, rather than merged twice; the logs stay added.
+    let put_back = before
+        .keys()
+        .find(|p| !after.contains_key(*p))
+        .expect("a file merged away");
+    std::fs::copy(kept.join(put_back), dir.join(put_back)).unwrap();
+    let out = compact(&dir);
+    assert!(!out.status.success());
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains("is in two files of this folder")
+            && said.contains("the logs were added, but merging the small files stopped"),
+        "{said}"
+    );
 }
 
 #[test]

@@ -125,7 +125,8 @@ def test_compacting_merges_small_files_as_ulog_parquet_compact_does(tmp_path):
     for rel in files(ours):
         if len(rel.parts) > 1 and not rel.parts[0].startswith("_"):
             mine, one = pq.read_table(ours / rel), pq.read_table(whole / rel)
-            assert mine.schema == one.schema, rel
+            assert mine.schema.equals(one.schema, check_metadata=True), rel
+            assert pq.read_metadata(ours / rel).metadata == pq.read_metadata(whole / rel).metadata
             assert table_rows(mine) == table_rows(one), rel
     with pytest.raises(FileNotFoundError, match="no dataset to compact"):
         ulog_rs.convert([], tmp_path / "none", compact=True)

@@ -233,14 +233,34 @@ fn merge(
     // Every log's rows, by log id (a log is in one file of a folder; its rows are
     // together there, in timestamp order).
     let mut logs: BTreeMap<String, Vec<RecordBatch>> = BTreeMap::new();
+    let mut from: BTreeMap<String, &Path> = BTreeMap::new();
     for file in group {
         for (id, rows) in log_slices(&file.path, &plain)? {
+            // A log in two files would be merged twice: refused, not repaired here.
+            if let Some(other) = from.insert(id.clone(), &file.path) {
+                if other != file.path {
+                    return Err(ExportError::new(ExportErrorKind::Dataset {
+                        what: format!(
+                            "log {id} is in two files of this folder (the other: {}); \
+                             remove the one that should not hold it",
+                            other.display()
+                        ),
+                    })
+                    .in_file(&file.path));
+                }
+            }
             logs.entry(id).or_default().push(rows);
         }
     }
-    let Some(first) = logs.keys().next().cloned() else {
-        return Ok(());
-    };
+    // The merged file replaces the group's first (both are named after their first
+    // log): the rule that finishes a compaction that died relies on it.
+    let first = logs.keys().next().cloned().unwrap_or_default();
+    if group[0].path.file_stem() != Some(std::ffi::OsStr::new(&first)) {
+        return Err(ExportError::new(ExportErrorKind::Dataset {
+            what: format!("a topic file to compact is not named after its first log ({first})"),
+        })
+        .in_file(&group[0].path));
+    }
     let mut open = Open::create(folder, &first, &plain, &props)?;
     for (id, batches) in &logs {
         for batch in batches {
@@ -258,7 +278,8 @@ fn merge(
             open.firmware.insert(firmware.clone());
         }
     }
-    let written = open.close()?;
+    // On disk before its sources go: they are the only other copy of its rows.
+    let written = open.close_durably()?;
     for file in group {
         if file.path != written {
             std::fs::remove_file(&file.path).map_err(|e| ExportError::io(e, &file.path))?;

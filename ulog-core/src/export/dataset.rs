@@ -508,12 +508,10 @@ impl Dataset {
         // compaction that dies leaves no row of a log the dataset does not have.
         if let (DatasetLayout::Fleet(fleet), true) = (&self.layout, self.options.compact) {
             let places = LogPlace::of_logs(&state.tables[0]);
-            finished.compacted = Some(compact_small_files(
-                &self.dir,
-                &places,
-                fleet,
-                self.options.compression,
-            )?);
+            finished.compacted = Some(
+                compact_small_files(&self.dir, &places, fleet, self.options.compression)
+                    .map_err(ExportError::compaction)?,
+            );
         }
         Ok(finished)
     }

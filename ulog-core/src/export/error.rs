@@ -109,6 +109,22 @@ impl ExportError {
         })
     }
 
+    /// `e`, met by a compaction after the conversion's commit: the logs are in, the
+    /// small files are not all merged (`e` is the source).
+    pub(crate) fn compaction(e: ExportError) -> ExportError {
+        ExportError::from_inner(Inner {
+            kind: ExportErrorKind::Dataset {
+                what: format!(
+                    "the logs were added, but merging the small files stopped (run the \
+                     compaction again): {e}"
+                ),
+            },
+            path: None,
+            position: None,
+            source: Some(Arc::new(e)),
+        })
+    }
+
     pub(crate) fn at(mut self, position: u64) -> ExportError {
         self.0.position = Some(position);
         self

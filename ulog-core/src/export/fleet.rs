@@ -471,7 +471,18 @@ impl Open {
 
     /// Closes the file, with its logs and firmware versions in its metadata, and
     /// renames it into place.
-    pub fn close(mut self) -> Result<PathBuf> {
+    pub fn close(self) -> Result<PathBuf> {
+        self.close_with(false)
+    }
+
+    /// [`Open::close`], the file's bytes on disk before the rename and the rename on
+    /// disk after it (the folder synced): for a file that replaces others, whose
+    /// removal comes next.
+    pub fn close_durably(self) -> Result<PathBuf> {
+        self.close_with(true)
+    }
+
+    fn close_with(mut self, durable: bool) -> Result<PathBuf> {
         let firmware: Vec<&str> = self.firmware.iter().map(String::as_str).collect();
         let mut writer = self.writer.take().expect("closed once");
         writer
@@ -479,11 +490,27 @@ impl Open {
         writer
             .append_key_value_metadata(KeyValue::new(LOG_IDS_KEY.to_owned(), self.logs.join(",")));
         let closed = writer
-            .close()
+            .into_inner()
             .map_err(|e| write_error(&self.path, e))
-            .and_then(|_| {
+            .and_then(|file| {
+                let file = file
+                    .into_inner()
+                    .map_err(|e| ExportError::io(e.into_error(), &self.path))?;
+                if durable {
+                    file.sync_all()
+                        .map_err(|e| ExportError::io(e, &self.path))?;
+                }
+                drop(file);
                 std::fs::rename(&self.partial, &self.path)
-                    .map_err(|e| ExportError::io(e, &self.path))
+                    .map_err(|e| ExportError::io(e, &self.path))?;
+                if durable {
+                    if let Some(folder) = self.path.parent() {
+                        File::open(folder)
+                            .and_then(|f| f.sync_all())
+                            .map_err(|e| ExportError::io(e, folder))?;
+                    }
+                }
+                Ok(())
             });
         if closed.is_err() {
             let _ = std::fs::remove_file(&self.partial);
