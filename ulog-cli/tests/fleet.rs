@@ -929,6 +929,19 @@ fn a_fleet_layout_conversion_killed_then_run_again_leaves_a_consistent_dataset()
     killed_then_run_again("fleet_layout_killed", &layout, &[0.3, 0.8, 0.9, 0.95, 0.99]);
 }
 
+/// `ulog ARGS`, killed (SIGKILL) `after` it started.
+fn killed_after(args: &[&OsStr], after: std::time::Duration) {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(after);
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
 /// Conversions with `extra` options killed at `fractions` of a whole one's time, then
 /// run again, leave the dataset the whole one writes; meanwhile every log listed has
 /// its files.
@@ -941,19 +954,11 @@ fn killed_then_run_again(name: &str, extra: &[&str], fractions: &[f64]) {
     let took = started.elapsed();
     for (i, &fraction) in fractions.iter().enumerate() {
         let dir = scratch.join(format!("killed{i}"));
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
-            .arg("parquet")
-            .args(&logs)
-            .arg("-o")
-            .arg(&dir)
-            .args(extra)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(took.mul_f64(fraction));
-        let _ = child.kill();
-        let _ = child.wait();
+        let mut args: Vec<&OsStr> = vec![OsStr::new("parquet")];
+        args.extend(logs.iter().map(|p| p.as_os_str()));
+        args.extend([OsStr::new("-o"), dir.as_os_str()]);
+        args.extend(extra.iter().map(OsStr::new));
+        killed_after(&args, took.mul_f64(fraction));
         // What a reader sees meanwhile: every log listed has its files.
         let (listed, filed) = listed_and_filed(&dir);
         for (id, topics) in &listed {
@@ -1390,16 +1395,11 @@ fn a_compaction_that_died_is_finished_by_the_next_conversion() {
     for (i, fraction) in [0.2, 0.5, 0.8, 0.95].into_iter().enumerate() {
         let dir = scratch.join(format!("killed{i}"));
         copy_dir(&steps, &dir);
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ulog"))
-            .args(["parquet", "--compact", "-o"])
-            .arg(&dir)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(took.mul_f64(fraction));
-        let _ = child.kill();
-        let _ = child.wait();
+        let args = ["parquet", "--compact", "-o"].map(OsStr::new);
+        killed_after(
+            &[&args[..], &[dir.as_os_str()]].concat(),
+            took.mul_f64(fraction),
+        );
         let out = compact(&dir);
         assert!(
             out.status.success(),
