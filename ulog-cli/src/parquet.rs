@@ -381,47 +381,37 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The dataset in `dir`, once no other conversion writes it: while one does (another
-/// `ulog parquet` into the same folder), says so once on stderr and waits for it.
-/// The layout `--layout`, `--partition-by` and `--file-size` ask for.
+/// The layout `--layout`, `--partition-by` and `--file-size` ask for
+/// (`DatasetLayout::from_names`, as Python's `ulog_rs.convert` reads its arguments).
 fn layout(args: &Args) -> Result<Option<export::DatasetLayout>, Failure> {
-    let fleet = args.layout == Some(LayoutArg::Fleet);
-    for (given, name) in [
-        (args.partition_by.is_some(), "--partition-by"),
-        (args.file_size.is_some(), "--file-size"),
-    ] {
-        if given && !fleet {
-            return Err(Failure::about(name, "is an option of `--layout fleet`"));
-        }
-    }
-    match args.layout {
-        None => Ok(None),
-        Some(LayoutArg::FilePerLog) => Ok(Some(export::DatasetLayout::FilePerLog)),
-        Some(LayoutArg::Fleet) => {
-            let mut partition_by = Vec::new();
-            let default = [PartitionArg::Month];
-            for arg in args.partition_by.as_deref().unwrap_or(&default) {
-                let key = match arg {
-                    PartitionArg::Month => export::PartitionKey::Month,
-                    PartitionArg::Vehicle => export::PartitionKey::Vehicle,
-                    PartitionArg::None => continue,
-                };
-                if partition_by.contains(&key) {
-                    return Err(Failure::about(
-                        "--partition-by",
-                        format!("`{}` is given twice", key.name()),
-                    ));
-                }
-                partition_by.push(key);
-            }
-            Ok(Some(export::DatasetLayout::Fleet(export::FleetLayout {
-                partition_by,
-                file_bytes: args.file_size.unwrap_or(128) << 20,
-            })))
-        }
-    }
+    let name = args.layout.map(|l| match l {
+        LayoutArg::FilePerLog => "file-per-log",
+        LayoutArg::Fleet => "fleet",
+    });
+    let keys: Option<Vec<&str>> = args.partition_by.as_ref().map(|keys| {
+        keys.iter()
+            .map(|k| match k {
+                PartitionArg::Month => "month",
+                PartitionArg::Vehicle => "vehicle",
+                PartitionArg::None => "none",
+            })
+            .collect()
+    });
+    export::DatasetLayout::from_names(name, keys.as_deref(), args.file_size).map_err(|e| {
+        // Which flag: a key or size without the fleet layout, else a key given twice
+        // (clap has checked the names and the size's range).
+        let fleet = args.layout == Some(LayoutArg::Fleet);
+        let flag = if !fleet && args.partition_by.is_none() {
+            "--file-size"
+        } else {
+            "--partition-by"
+        };
+        Failure::about(flag, e)
+    })
 }
 
+/// The dataset in `dir`, once no other conversion writes it: while one does (another
+/// `ulog parquet` into the same folder), says so once on stderr and waits for it.
 fn open_dataset(dir: &Path, options: &Options) -> Result<Dataset, Failure> {
     let mut said = false;
     loop {

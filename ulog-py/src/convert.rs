@@ -10,8 +10,7 @@ use std::sync::Mutex;
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use ulog_core::export::{
-    Added, Compression, Dataset, DatasetLayout, ExportError, ExportErrorKind, FleetLayout, LogPath,
-    Options, PartitionKey,
+    Added, Compression, Dataset, DatasetLayout, ExportError, ExportErrorKind, LogPath, Options,
 };
 use ulog_core::store::{Downloaded, Remote, RemoteDataset, StoreError, StoreErrorKind};
 
@@ -52,43 +51,10 @@ pub fn layout_of(
     partition_by: Option<Vec<String>>,
     file_size_mb: Option<u64>,
 ) -> PyResult<Option<DatasetLayout>> {
-    let fleet = layout == Some("fleet");
-    if !fleet && (partition_by.is_some() || file_size_mb.is_some()) {
-        return Err(PyValueError::new_err(
-            "partition_by and file_size_mb are options of layout=\"fleet\"",
-        ));
-    }
-    match layout {
-        None => Ok(None),
-        Some("file-per-log") => Ok(Some(DatasetLayout::FilePerLog)),
-        Some("fleet") => {
-            let mut keys = Vec::new();
-            for name in partition_by.unwrap_or_else(|| vec!["month".to_owned()]) {
-                let key = PartitionKey::parse(&name).ok_or_else(|| {
-                    PyValueError::new_err(format!(
-                        "partition_by {name:?}: \"month\" or \"vehicle\""
-                    ))
-                })?;
-                if keys.contains(&key) {
-                    return Err(PyValueError::new_err(format!(
-                        "partition_by {name:?} is given twice"
-                    )));
-                }
-                keys.push(key);
-            }
-            let mb = file_size_mb.unwrap_or(128);
-            if mb == 0 {
-                return Err(PyValueError::new_err("file_size_mb: at least 1"));
-            }
-            Ok(Some(DatasetLayout::Fleet(FleetLayout {
-                partition_by: keys,
-                file_bytes: mb << 20,
-            })))
-        }
-        Some(other) => Err(PyValueError::new_err(format!(
-            "layout {other:?}: \"file-per-log\" or \"fleet\""
-        ))),
-    }
+    let keys: Option<Vec<&str>> = partition_by
+        .as_ref()
+        .map(|keys| keys.iter().map(String::as_str).collect());
+    DatasetLayout::from_names(layout, keys.as_deref(), file_size_mb).map_err(PyValueError::new_err)
 }
 
 /// The Python error of an export: a file that cannot be read or written is an

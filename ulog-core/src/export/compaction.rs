@@ -16,18 +16,16 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::File;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use arrow_array::cast::AsArray;
 use arrow_array::RecordBatch;
-use arrow_schema::{Schema, SchemaRef};
+use arrow_schema::SchemaRef;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
 use super::error::{ExportError, ExportErrorKind};
-use super::files::{topic_file_id, write_error};
+use super::files::topic_files;
 use super::fleet::{
-    by_format, each_folder, file_schema, unreadable, LogPlace, Open, FIRMWARE_KEY, FORMAT_HASH_KEY,
-    LOG_IDS_KEY, ROW_GROUP_BYTES,
+    by_format, each_folder, file_schema, unreadable, FileFormat, LogPlace, Open, LOG_IDS_KEY,
 };
 use super::{Compression, FleetLayout};
 
@@ -64,14 +62,12 @@ pub(super) fn compact_small_files(
     layout: &FleetLayout,
     compression: Compression,
 ) -> Result<Compacted> {
-    let mut folders = Vec::new();
-    leaf_folders(dir, &mut folders)?;
+    let folders = files_by_folder(dir)?;
     let marker = dir.join(COMPACTING);
     let mut marked = false;
     let mut done = Compacted::default();
-    let results = each_folder(&folders, |folder| {
-        let groups = groups(folder, layout.file_bytes)?;
-        Ok((folder.clone(), groups))
+    let results = each_folder(&folders, |(folder, files)| {
+        Ok((folder.clone(), groups(files, layout.file_bytes)?))
     });
     let mut plans = Vec::new();
     for result in results {
@@ -103,79 +99,29 @@ pub(super) fn compact_small_files(
     Ok(done)
 }
 
-/// The folders of the dataset in `dir` that hold topic files: each topic folder's
-/// partition folders, innermost (and the topic folder itself, for files written
-/// without partitions). Folders starting with `_` or `.` are not topics.
-fn leaf_folders(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
-    let mut topics: Vec<PathBuf> = read_dir(dir)?
-        .into_iter()
-        .filter(|(name, is_dir, _)| *is_dir && !name.starts_with(['_', '.']))
-        .map(|(_, _, path)| path)
-        .collect();
-    topics.sort();
-    for topic in topics {
-        walk_partitions(&topic, out)?;
+/// The topic files of the dataset in `dir` by the folder holding them (a topic folder,
+/// or its innermost partition folders), each folder's in name order.
+fn files_by_folder(dir: &Path) -> Result<Vec<(PathBuf, Vec<PathBuf>)>> {
+    let mut folders: BTreeMap<PathBuf, Vec<PathBuf>> = BTreeMap::new();
+    for (_, path) in topic_files(dir)?.into_values().flatten() {
+        let folder = path.parent().map(Path::to_owned).unwrap_or_default();
+        folders.entry(folder).or_default().push(path);
     }
-    Ok(())
+    for files in folders.values_mut() {
+        files.sort();
+    }
+    Ok(folders.into_iter().collect())
 }
 
-fn walk_partitions(folder: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
-    let mut entries = read_dir(folder)?;
-    entries.sort();
-    if entries
-        .iter()
-        .any(|(name, is_dir, _)| !is_dir && name.ends_with(".parquet"))
-    {
-        out.push(folder.to_owned());
-    }
-    for (name, is_dir, path) in entries {
-        if is_dir && name.contains('=') {
-            walk_partitions(&path, out)?;
-        }
-    }
-    Ok(())
-}
-
-/// `dir`'s entries: name, whether a folder, path.
-fn read_dir(dir: &Path) -> Result<Vec<(String, bool, PathBuf)>> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(ExportError::io(e, dir)),
-    };
-    Ok(entries
-        .flatten()
-        .map(|e| {
-            let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
-            (
-                e.file_name().to_string_lossy().into_owned(),
-                is_dir,
-                e.path(),
-            )
-        })
-        .collect())
-}
-
-/// The topic files (`<log_id>.parquet`) of one folder, in name order.
-fn topic_files(folder: &Path) -> Result<Vec<(PathBuf, u64)>> {
-    let mut files: Vec<(PathBuf, u64)> = Vec::new();
-    for (name, is_dir, path) in read_dir(folder)? {
-        if !is_dir && topic_file_id(&name).is_some() {
-            let bytes = std::fs::metadata(&path)
-                .map_err(|e| ExportError::io(e, &path))?
-                .len();
-            files.push((path, bytes));
-        }
-    }
-    files.sort();
-    Ok(files)
-}
-
-/// The files of `folder` by format, each format's files in name order and in groups
-/// of at most `file_bytes`: a group of one is a file left as it is.
-fn groups(folder: &Path, file_bytes: u64) -> Result<Vec<Vec<Small>>> {
+/// The topic files of a folder (in name order) by format, each format's files in
+/// groups of at most `file_bytes`: a group of one is a file left as it is.
+fn groups(files: &[PathBuf], file_bytes: u64) -> Result<Vec<Vec<Small>>> {
     let mut formats: Vec<Vec<Small>> = Vec::new();
-    for (path, bytes) in topic_files(folder)? {
+    for path in files {
+        let path = path.clone();
+        let bytes = std::fs::metadata(&path)
+            .map_err(|e| ExportError::io(e, &path))?
+            .len();
         let schema = file_schema(&path)?;
         let small = Small {
             path,
@@ -216,40 +162,26 @@ fn merge(
     places: &BTreeMap<String, LogPlace>,
     compression: Compression,
 ) -> Result<()> {
-    let schema = &group[0].schema;
-    // The topic's metadata as the files have it, less what is the file's own.
-    let mut metadata = schema.metadata().clone();
-    for key in [FIRMWARE_KEY, LOG_IDS_KEY, "ARROW:schema"] {
-        metadata.remove(key);
-    }
-    if let Some(format) = metadata.get("ulog.format") {
-        let hash = xxhash_rust::xxh3::xxh3_64(format.as_bytes());
-        metadata.insert(FORMAT_HASH_KEY.to_owned(), format!("{hash:016x}"));
-    }
-    let described = Schema::new_with_metadata(schema.fields().clone(), metadata);
-    let props = super::writer_properties(&described, compression);
-    let plain = Arc::new(Schema::new(schema.fields().clone()));
+    let format = FileFormat::of(&group[0].schema, compression);
 
     // Every log's rows, by log id (a log is in one file of a folder; its rows are
     // together there, in timestamp order).
-    let mut logs: BTreeMap<String, Vec<RecordBatch>> = BTreeMap::new();
-    let mut from: BTreeMap<String, &Path> = BTreeMap::new();
+    let mut logs: BTreeMap<String, (&Path, Vec<RecordBatch>)> = BTreeMap::new();
     for file in group {
-        for (id, rows) in log_slices(&file.path, &plain)? {
+        for (id, rows) in log_slices(&file.path, &format.schema)? {
+            let (from, batches) = logs.entry(id.clone()).or_insert((&file.path, Vec::new()));
             // A log in two files would be merged twice: refused, not repaired here.
-            if let Some(other) = from.insert(id.clone(), &file.path) {
-                if other != file.path {
-                    return Err(ExportError::new(ExportErrorKind::Dataset {
-                        what: format!(
-                            "log {id} is in two files of this folder (the other: {}); \
-                             remove the one that should not hold it",
-                            other.display()
-                        ),
-                    })
-                    .in_file(&file.path));
-                }
+            if *from != file.path {
+                return Err(ExportError::new(ExportErrorKind::Dataset {
+                    what: format!(
+                        "log {id} is in two files of this folder (the other: {}); \
+                         remove the one that should not hold it",
+                        from.display()
+                    ),
+                })
+                .in_file(&file.path));
             }
-            logs.entry(id).or_default().push(rows);
+            batches.push(rows);
         }
     }
     // The merged file replaces the group's first (both are named after their first
@@ -261,22 +193,10 @@ fn merge(
         })
         .in_file(&group[0].path));
     }
-    let mut open = Open::create(folder, &first, &plain, &props)?;
-    for (id, batches) in &logs {
-        for batch in batches {
-            open.writer()
-                .write(batch)
-                .map_err(|e| write_error(&open.path, e))?;
-        }
-        if open.writer().in_progress_size() >= ROW_GROUP_BYTES {
-            open.writer()
-                .flush()
-                .map_err(|e| write_error(&open.path, e))?;
-        }
-        open.logs.push(id.clone());
-        if let Some(firmware) = places.get(id).and_then(|p| p.firmware.as_ref()) {
-            open.firmware.insert(firmware.clone());
-        }
+    let mut open = Open::create(folder, &first, &format)?;
+    for (id, (_, rows)) in &logs {
+        let firmware = places.get(id).and_then(|p| p.firmware.as_deref());
+        open.push_log(id, rows, firmware)?;
     }
     // On disk before its sources go: they are the only other copy of its rows.
     let written = open.close_durably()?;
@@ -321,19 +241,15 @@ fn log_slices(path: &Path, schema: &SchemaRef) -> Result<Vec<(String, RecordBatc
 
 /// After a compaction that died ([`COMPACTING`] in `dir`): removes every topic file
 /// whose logs (its [`LOG_IDS_KEY`]) another file of its folder holds too (the merged
-/// file that replaced its group's first), then the marker. The number of files
-/// removed.
-pub(super) fn remove_superseded(dir: &Path) -> Result<usize> {
+/// file that replaced its group's first), then the marker.
+pub(super) fn remove_superseded(dir: &Path) -> Result<()> {
     let marker = dir.join(COMPACTING);
     if !marker.exists() {
-        return Ok(0);
+        return Ok(());
     }
-    let mut folders = Vec::new();
-    leaf_folders(dir, &mut folders)?;
-    let mut removed = 0;
-    for folder in folders {
+    for (_, paths) in files_by_folder(dir)? {
         let mut files: Vec<(PathBuf, BTreeSet<String>)> = Vec::new();
-        for (path, _) in topic_files(&folder)? {
+        for path in paths {
             let schema = file_schema(&path)?;
             let ids = schema
                 .metadata()
@@ -349,12 +265,10 @@ pub(super) fn remove_superseded(dir: &Path) -> Result<usize> {
                 });
             if superseded {
                 std::fs::remove_file(path).map_err(|e| ExportError::io(e, path))?;
-                removed += 1;
             }
         }
     }
-    std::fs::remove_file(&marker).map_err(|e| ExportError::io(e, &marker))?;
-    Ok(removed)
+    std::fs::remove_file(&marker).map_err(|e| ExportError::io(e, &marker))
 }
 
 /// The error of a compaction asked of a dataset that is not in the fleet layout.

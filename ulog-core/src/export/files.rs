@@ -1,5 +1,6 @@
 //! Writing Parquet files: one per topic instance, and a whole log into a directory.
 
+use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -276,4 +277,53 @@ impl std::error::Error for ExternalError {}
 pub(super) fn topic_file_id(name: &str) -> Option<&str> {
     let id = name.strip_suffix(".parquet")?;
     (id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit())).then_some(id)
+}
+
+/// The topic files in the dataset folder `dir` (`<folder>/<log_id>.parquet`), by
+/// log: each one's folder name and path. Folders whose names start with `_` or `.`
+/// are not topics (a Spark conversion's staging).
+pub(super) fn topic_files(dir: &Path) -> Result<BTreeMap<String, Vec<(String, PathBuf)>>> {
+    let mut files: BTreeMap<String, Vec<(String, PathBuf)>> = BTreeMap::new();
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(files),
+        Err(e) => return Err(ExportError::io(e, dir)),
+    };
+    let mut folders: Vec<_> = entries
+        .flatten()
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .filter(|(name, _)| !name.starts_with(['_', '.']))
+        .collect();
+    folders.sort();
+    for (folder, path) in folders {
+        folder_files(&path, &mut |id, path| {
+            files
+                .entry(id.to_owned())
+                .or_default()
+                .push((folder.clone(), path));
+        })?;
+    }
+    Ok(files)
+}
+
+/// Calls `found` with the id and path of each topic file (`<log_id>.parquet`) in the
+/// topic folder `dir` and its partition folders (`<key>=<value>/`, the fleet layout).
+pub(super) fn folder_files(dir: &Path, found: &mut dyn FnMut(&str, PathBuf)) -> Result<()> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(ExportError::io(e, dir)),
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if entry.file_type().is_ok_and(|t| t.is_dir()) {
+            if name.contains('=') {
+                folder_files(&entry.path(), found)?;
+            }
+        } else if let Some(id) = topic_file_id(&name) {
+            found(id, entry.path());
+        }
+    }
+    Ok(())
 }

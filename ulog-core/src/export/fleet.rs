@@ -116,6 +116,67 @@ impl PartitionKey {
 }
 
 impl DatasetLayout {
+    /// The layout of a conversion's options by name, as `ulog parquet --layout
+    /// --partition-by --file-size` and `ulog_rs.convert(layout=, partition_by=,
+    /// file_size_mb=)` take them: `name` `"file-per-log"` or `"fleet"` (`None`: the
+    /// dataset's own, or file per log for a new one); the fleet layout's partition
+    /// keys by [name](PartitionKey::name), outermost first (default `month`; `"none"`
+    /// is no key), and its file size in MB (default 128, at least 1). An error (what is
+    /// wrong, in words) for an unknown name, a key given twice, a size of 0, or keys or
+    /// a size without the fleet layout.
+    ///
+    /// ```
+    /// use ulog_core::export::{DatasetLayout, FleetLayout, PartitionKey};
+    ///
+    /// let fleet = DatasetLayout::from_names(Some("fleet"), Some(&["vehicle", "month"]), Some(64));
+    /// let keys = vec![PartitionKey::Vehicle, PartitionKey::Month];
+    /// assert_eq!(
+    ///     fleet,
+    ///     Ok(Some(DatasetLayout::Fleet(FleetLayout { partition_by: keys, file_bytes: 64 << 20 })))
+    /// );
+    /// assert!(DatasetLayout::from_names(None, Some(&["month"]), None).is_err());
+    /// assert!(DatasetLayout::from_names(Some("fleet"), Some(&["month", "month"]), None).is_err());
+    /// ```
+    pub fn from_names(
+        name: Option<&str>,
+        partition_by: Option<&[&str]>,
+        file_size_mb: Option<u64>,
+    ) -> Result<Option<DatasetLayout>, String> {
+        if name != Some("fleet") && (partition_by.is_some() || file_size_mb.is_some()) {
+            return Err(
+                "the partition keys and the file size are options of the fleet layout".to_owned(),
+            );
+        }
+        match name {
+            None => Ok(None),
+            Some("file-per-log") => Ok(Some(DatasetLayout::FilePerLog)),
+            Some("fleet") => {
+                let mut keys = Vec::new();
+                for &key in partition_by.unwrap_or(&["month"]) {
+                    if key == "none" {
+                        continue;
+                    }
+                    let parsed = PartitionKey::parse(key).ok_or_else(|| {
+                        format!("partition key `{key}`: `month`, `vehicle` or `none`")
+                    })?;
+                    if keys.contains(&parsed) {
+                        return Err(format!("partition key `{key}` is given twice"));
+                    }
+                    keys.push(parsed);
+                }
+                let mb = file_size_mb.unwrap_or(FleetLayout::default().file_bytes >> 20);
+                if mb == 0 {
+                    return Err("the file size is at least 1 MB".to_owned());
+                }
+                Ok(Some(DatasetLayout::Fleet(FleetLayout {
+                    partition_by: keys,
+                    file_bytes: mb << 20,
+                })))
+            }
+            Some(other) => Err(format!("layout `{other}`: `file-per-log` or `fleet`")),
+        }
+    }
+
     /// How the tables record it (`ulog.layout`): `file-per-log`, or `fleet` and its
     /// partition keys (`fleet:month,vehicle`). The file size is not recorded: each
     /// conversion may choose its own.
@@ -230,7 +291,7 @@ fn hive_escape(value: &str) -> String {
 /// kilobytes: with a row group per log, the footers were 95 MB of the 1,550 MB of a
 /// fleet of 2,000 logs (`bench/fleet.py`), and 0.8 MB of a 2.2 MB file of
 /// `vehicle_status` (420 logs).
-pub(super) const ROW_GROUP_BYTES: usize = 4 << 20;
+const ROW_GROUP_BYTES: usize = 4 << 20;
 
 /// One log's file of a topic, waiting in [`PENDING_DIR`].
 struct Pending<'a> {
@@ -382,46 +443,16 @@ fn write_group(
     compression: Compression,
     out: &mut Vec<PathBuf>,
 ) -> Result<()> {
-    let schema = &group[0].schema;
-    // The topic's metadata, less what differs from log to log (a log's instances).
-    let mut metadata = schema.metadata().clone();
-    metadata.remove("ulog.multi_id");
-    if let Some(format) = metadata.get("ulog.format") {
-        let hash = xxhash_rust::xxh3::xxh3_64(format.as_bytes());
-        metadata.insert(FORMAT_HASH_KEY.to_owned(), format!("{hash:016x}"));
-    }
-    let described = Schema::new_with_metadata(schema.fields().clone(), metadata);
-    // The metadata as the file's key-value metadata (sorted), not inside the encoded
-    // Arrow schema, whose map has no order: the file is the same from run to run.
-    let props = super::writer_properties(&described, compression);
-    let plain = Arc::new(Schema::new(schema.fields().clone()));
-
+    let format = FileFormat::of(&group[0].schema, compression);
     let mut open: Option<Open> = None;
     for pending in group {
         let file = match &mut open {
             Some(file) => file,
-            None => open.insert(Open::create(target, &pending.log_id, &plain, &props)?),
+            None => open.insert(Open::create(target, &pending.log_id, &format)?),
         };
-        for batch in sorted_rows(&pending.path, &plain)? {
-            file.writer()
-                .write(&batch)
-                .map_err(|e| write_error(&file.path, e))?;
-        }
-        // Row groups of whole logs, closed after the log that fills one: a log's rows
-        // are one row group (or several, past the writer's row limit) unless it is
-        // small, and then they share one with the next logs, in id order, so the
-        // `log_id` statistics still prune to it.
-        if file.writer().in_progress_size() >= ROW_GROUP_BYTES {
-            file.writer()
-                .flush()
-                .map_err(|e| write_error(&file.path, e))?;
-        }
-        file.logs.push(pending.log_id.clone());
-        if let Some(firmware) = &pending.place.firmware {
-            file.firmware.insert(firmware.clone());
-        }
-        let size = file.writer().bytes_written() + file.writer().in_progress_size();
-        if size as u64 >= file_bytes {
+        let rows = sorted_rows(&pending.path, &format.schema)?;
+        file.push_log(&pending.log_id, &rows, pending.place.firmware.as_deref())?;
+        if file.size() >= file_bytes {
             out.push(open.take().expect("open").close()?);
         }
     }
@@ -434,30 +465,56 @@ fn write_group(
     Ok(())
 }
 
+/// The schema and writer properties of the fleet files of one topic format.
+pub(super) struct FileFormat {
+    /// The columns, without metadata (that goes into the file's key-value metadata).
+    pub schema: SchemaRef,
+    props: parquet::file::properties::WriterProperties,
+}
+
+impl FileFormat {
+    /// The format of files holding rows of `schema` (a log's file of the topic, or a
+    /// fleet file): the topic's metadata and its format's hash ([`FORMAT_HASH_KEY`]),
+    /// less what is a log's or a file's own (its instance, logs, firmware versions).
+    pub fn of(schema: &Schema, compression: Compression) -> FileFormat {
+        let mut metadata = schema.metadata().clone();
+        for key in ["ulog.multi_id", FIRMWARE_KEY, LOG_IDS_KEY, "ARROW:schema"] {
+            metadata.remove(key);
+        }
+        if let Some(format) = metadata.get("ulog.format") {
+            let hash = xxhash_rust::xxh3::xxh3_64(format.as_bytes());
+            metadata.insert(FORMAT_HASH_KEY.to_owned(), format!("{hash:016x}"));
+        }
+        let described = Schema::new_with_metadata(schema.fields().clone(), metadata);
+        // The metadata as the file's key-value metadata (sorted), not inside the
+        // encoded Arrow schema, whose map has no order: the file is the same from run
+        // to run.
+        FileFormat {
+            props: super::writer_properties(&described, compression),
+            schema: Arc::new(Schema::new(schema.fields().clone())),
+        }
+    }
+}
+
 /// A fleet file being written.
 pub(super) struct Open {
-    pub path: PathBuf,
+    path: PathBuf,
     partial: PathBuf,
     /// `None` once closed.
     writer: Option<ArrowWriter<std::io::BufWriter<File>>>,
-    pub logs: Vec<String>,
-    pub firmware: BTreeSet<String>,
+    logs: Vec<String>,
+    firmware: BTreeSet<String>,
 }
 
 impl Open {
-    pub fn create(
-        target: &Path,
-        first: &str,
-        schema: &SchemaRef,
-        props: &parquet::file::properties::WriterProperties,
-    ) -> Result<Open> {
+    pub fn create(target: &Path, first: &str, format: &FileFormat) -> Result<Open> {
         let path = target.join(format!("{first}.parquet"));
         let partial = target.join(partial_name(&format!("{first}.parquet")));
         let file = File::create(&partial).map_err(|e| ExportError::io(e, &path))?;
         let writer = ArrowWriter::try_new(
             std::io::BufWriter::new(file),
-            schema.clone(),
-            Some(props.clone()),
+            format.schema.clone(),
+            Some(format.props.clone()),
         )
         .map_err(|e| write_error(&path, e))?;
         Ok(Open {
@@ -518,8 +575,43 @@ impl Open {
         closed.map(|()| std::mem::take(&mut self.path))
     }
 
-    pub fn writer(&mut self) -> &mut ArrowWriter<std::io::BufWriter<File>> {
+    fn writer(&mut self) -> &mut ArrowWriter<std::io::BufWriter<File>> {
         self.writer.as_mut().expect("open until closed")
+    }
+
+    /// Appends the rows of the log `id` (all of them, in order), whose firmware
+    /// version is `firmware`.
+    pub fn push_log(
+        &mut self,
+        id: &str,
+        rows: &[RecordBatch],
+        firmware: Option<&str>,
+    ) -> Result<()> {
+        for batch in rows {
+            self.writer()
+                .write(batch)
+                .map_err(|e| write_error(&self.path, e))?;
+        }
+        // Row groups of whole logs, closed after the log that fills one: a log's rows
+        // are one row group (or several, past the writer's row limit) unless it is
+        // small, and then they share one with the next logs, in id order, so the
+        // `log_id` statistics still prune to it.
+        if self.writer().in_progress_size() >= ROW_GROUP_BYTES {
+            self.writer()
+                .flush()
+                .map_err(|e| write_error(&self.path, e))?;
+        }
+        self.logs.push(id.to_owned());
+        if let Some(firmware) = firmware {
+            self.firmware.insert(firmware.to_owned());
+        }
+        Ok(())
+    }
+
+    /// Its bytes so far, as the writer estimates them encoded.
+    pub fn size(&self) -> u64 {
+        let writer = self.writer.as_ref().expect("open until closed");
+        (writer.bytes_written() + writer.in_progress_size()) as u64
     }
 }
 
