@@ -125,7 +125,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // One pass in chunks, keeping the rows of the topics named only.
     let mut names: Vec<&str> = selected.iter().map(|s| s.topic.as_str()).collect();
     names.extend(grid_topic.iter().map(|s| s.topic.as_str()));
-    let kept = input::keep(&args.file, &names)?;
+    let kept = input::keep(&args.file, &names, input::Times::Every)?;
     let log = kept.log(&name)?;
 
     let tables = log

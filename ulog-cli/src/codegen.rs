@@ -47,7 +47,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     // The formats are metadata: one pass in chunks, the data not kept. The pass
     // refuses what the reader refuses, with the same message.
-    let kept = input::keep(&args.file, &[])?;
+    let kept = input::keep(&args.file, &[], input::Times::Needed)?;
     let log = kept.log(&name)?;
     let shown = args
         .file

@@ -71,7 +71,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // or, in a log whose header has none, its first timestamp, which takes a pass.
     let mut start = header(&name, &args.file)?.timestamp;
     if start == 0 && (args.start.is_some() || args.end.is_some()) {
-        start = input::keep(&args.file, &[])?.metadata.span().start();
+        start = input::keep(&args.file, &[], input::Times::Every)?
+            .metadata
+            .span()
+            .start();
     }
     let from = args
         .start_us

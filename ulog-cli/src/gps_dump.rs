@@ -38,7 +38,7 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     // One pass in chunks, keeping the metadata and the rows of `gps_dump`.
-    let kept = input::keep(&args.file, &[GPS_DUMP_TOPIC])?;
+    let kept = input::keep(&args.file, &[GPS_DUMP_TOPIC], input::Times::Every)?;
     let log = kept.log(&name)?;
     let chunks = gps_dump(&log).map_err(|e| crate::kml::track_failure(&name, e))?;
     input::note_damage(&name, log.findings());

@@ -100,7 +100,10 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), Failure> {
     // One pass in chunks: the metadata, and each topic's rows counted.
     let (name, kept) = match &args.file {
-        Some(p) => (p.display().to_string(), input::keep(p, &[])?),
+        Some(p) => (
+            p.display().to_string(),
+            input::keep(p, &[], input::Times::Every)?,
+        ),
         None => {
             let _ = writeln!(
                 io::stderr(),
@@ -108,7 +111,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             );
             let name = "<bundled sample>".to_owned();
             let bytes = ulog_core::testing::sample_log();
-            let kept = input::keep_from(Source::from(&bytes), None, &name, &[])?;
+            let kept =
+                input::keep_from(Source::from(&bytes), None, &name, &[], input::Times::Every)?;
             (name, kept)
         }
     };

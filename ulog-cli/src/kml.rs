@@ -82,7 +82,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     options.camera_trigger.clone_from(&args.camera_trigger);
     // One pass in chunks, keeping the metadata and the rows of the topics the track
     // reads.
-    let kept = input::keep(&args.file, &options.topics())?;
+    let kept = input::keep(&args.file, &options.topics(), input::Times::Every)?;
     let log = kept.log(&name)?;
     let track = Track::from_log(&log, &options).map_err(|e| track_failure(&name, e))?;
     input::note_damage(&name, log.findings());

@@ -132,7 +132,7 @@ fn convert(args: &Args, file: &Path, out: &Path) -> Result<(), Failure> {
     let out = out.as_path();
     // A first pass over the file (framing, and the GPS rows that give the clock)
     // finds its span, which places each message's log time, and its UTC clock.
-    let kept = input::keep(file, &[])?;
+    let kept = input::keep(file, &[], input::Times::Every)?;
     let span = kept.metadata.span().clone();
     let utc = input::utc_of(&name, || kept.metadata.utc(), args.utc)?;
     drop(kept);

@@ -56,8 +56,8 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     // One pass in chunks: the logged strings are metadata, the events' rows are kept
-    // as it goes by.
-    let kept = input::keep(&args.file, &[])?;
+    // as it goes by (in the kept log, which is parsed once).
+    let kept = input::keep(&args.file, &["event"], input::Times::Needed)?;
     let log = kept.log(&name)?;
     let mut options = EventOptions::default().profile(args.profile.clone());
     if let Some(path) = &args.events_json {
@@ -66,7 +66,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let metadata = Metadata::from_bytes(&bytes).map_err(|e| Failure::about(&shown, e))?;
         options = options.metadata(metadata);
     }
-    let (lines, findings) = lines(&log, || kept.metadata.events(&options), args.no_tagged);
+    let (lines, findings) = lines(&log, || log.events(&options), args.no_tagged);
     let mut stderr = io::stderr();
     for f in &findings {
         let _ = writeln!(stderr, "ulog: {name}: {f}");

@@ -165,7 +165,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let name = args.file.display().to_string();
     // The parameters are metadata: one pass in chunks, the data not kept.
-    let kept = input::keep(&args.file, &[])?;
+    let kept = input::keep(&args.file, &[], input::Times::Every)?;
     let log = kept.log(&name)?;
     let (out_name, sink): (String, Box<dyn Write>) = match args.output() {
         Some(p) => {

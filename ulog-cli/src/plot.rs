@@ -155,7 +155,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // One pass in chunks, keeping the metadata (parameter changes, messages) and the
     // rows of the topics plotted.
     let topics: Vec<&str> = args.fields.iter().map(|f| f.topic.as_str()).collect();
-    let kept = input::keep(&args.file, &topics)?;
+    let kept = input::keep(&args.file, &topics, input::Times::Every)?;
     let log = kept.log(&name)?;
     let span = log.span();
     let start_us = span.start();

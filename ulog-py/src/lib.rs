@@ -359,8 +359,36 @@ fn to_python(py: Python<'_>, l: Loaded) -> PyResult<Bound<'_, PyDict>> {
     }
     d.set_item("topics", topics)?;
     d.set_item("utc", l.utc)?;
-    d.set_item("events", l.events)?;
+    d.set_item("events", PendingEvents { events: l.events })?;
     Ok(d)
+}
+
+/// A log's PX4 events, decoded when `decode` is first called (`ULog.events`).
+#[pyclass(frozen)]
+struct PendingEvents {
+    events: loaded::Events,
+}
+
+#[pymethods]
+impl PendingEvents {
+    /// The events: `(timestamp, id, sequence, level, external level, name, group,
+    /// text, description, is_message)` each.
+    fn decode(&self, py: Python<'_>) -> PyResult<Vec<loaded::EventRow>> {
+        guarded(|| Ok(py.detach(|| self.events.decode())))
+    }
+
+    /// Equal to other events still to decode, or to a list of decoded ones, that
+    /// decode to the same (pyulog's tests compare every attribute of two logs).
+    fn __eq__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<bool> {
+        let theirs = match other.cast::<PendingEvents>() {
+            Ok(pending) => pending.get().decode(py)?,
+            Err(_) => match other.extract::<Vec<loaded::EventRow>>() {
+                Ok(decoded) => decoded,
+                Err(_) => return Ok(false),
+            },
+        };
+        Ok(self.decode(py)? == theirs)
+    }
 }
 
 /// The `ulog_rs._core` module.

@@ -38,6 +38,23 @@ def test_some_corpus_log_has_events():
 
 
 @pytest.mark.parametrize("path", LOGS, ids=[p.stem for p in LOGS])
+def test_events_decoded_when_asked_survive_copies_and_pickles(path):
+    # The events are decoded at first use, from a Rust object a copy or a pickle
+    # cannot take: those decode them first. Each copy has pyulog's events.
+    import copy
+    import pickle
+
+    theirs = PX4Events()
+    theirs.set_default_json_definitions_cb(lambda already: None)
+    want = [(int(t), text) for t, _, text in theirs.get_logged_events(pyulog.ULog(str(path)))]
+    unknown = re.compile(r"^(\[Unknown event with ID \d+), arguments: [0-9a-f ]*\]$")
+    for make in (copy.deepcopy, copy.copy, lambda u: pickle.loads(pickle.dumps(u))):
+        ours = make(ulog_rs.ULog(str(path)))
+        got = [(int(e.timestamp), unknown.sub(r"\1]", e.text)) for e in ours.events if e.is_message]
+        assert got == want
+
+
+@pytest.mark.parametrize("path", LOGS, ids=[p.stem for p in LOGS])
 def test_the_utc_clock_is_the_gps_rows_median(path):
     ours = ulog_rs.ULog(str(path))
     theirs = pyulog.ULog(str(path))

@@ -166,7 +166,9 @@ def test_two_passes_sharing_the_topics_read_what_one_does(path):
     two = _core.load(str(path), share_from=0)
     assert one.keys() == two.keys()
     for key in one:
-        if key != "topics":
+        if key == "events":
+            assert one[key].decode() == two[key].decode()
+        elif key != "topics":
             assert one[key] == two[key], key
     by_key = lambda raw: {(t["name"], t["multi_id"]): t for t in raw["topics"]}
     a, b = by_key(one), by_key(two)

@@ -36,7 +36,7 @@ pub(super) fn run(args: &Args, format: OutputFormat) -> Result<(), Failure> {
     let files: Vec<&PathBuf> = std::iter::once(&args.file).chain(&args.diff).collect();
     let kept = files
         .iter()
-        .map(|p| input::keep(p, &[]))
+        .map(|p| input::keep(p, &[], input::Times::Every))
         .collect::<Result<Vec<_>, _>>()?;
     let logs = kept
         .iter()

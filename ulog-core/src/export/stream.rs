@@ -299,7 +299,7 @@ pub(super) fn export<T>(
         };
         // Everything but the data kept as the pass goes (a log of its own, with the
         // times, GPS times and events the data gives it).
-        let result = drive_keeping(source, true, &[], &mut |r: crate::DataRecord<'_>| {
+        let result = drive_keeping(source, true, &[], None, &mut |r: crate::DataRecord<'_>| {
             let i = r.topic.index();
             if slots.len() <= i {
                 slots.resize_with(i + 1, || Slot::Unseen);

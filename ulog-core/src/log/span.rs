@@ -265,17 +265,25 @@ pub(crate) struct SpanTracker {
     first_rows: Vec<Row>,
     /// Whether the span so far has [`STALE_RUN_ROWS`] rows (or the header a time).
     settled: bool,
+    /// The timestamps (inclusive) of the usual row, which only moves the clock or the
+    /// low: settled, nothing pending, not 0, not before the header, no jump. Kept
+    /// with the state it follows from ([`SpanTracker::refresh`]), so that the usual
+    /// row costs two compares (the keeping pass of a 302 MB log in memory: 0.089 s →
+    /// 0.086 s, the calls to `jumps` and `confirm` gone from its profile).
+    usual: (u64, u64),
 }
 
 impl SpanTracker {
     /// Starts following a log whose header's timestamp is `header`.
     pub fn new(header: u64) -> SpanTracker {
-        SpanTracker {
+        let mut tracker = SpanTracker {
             header,
             clock: (header > 0).then_some(header),
             settled: header > 0,
             ..SpanTracker::default()
-        }
+        };
+        tracker.refresh();
+        tracker
     }
 
     /// The header's timestamp it follows.
@@ -286,11 +294,46 @@ impl SpanTracker {
     /// A row of subscription `sub` stamped `timestamp`, its message at `offset`.
     #[inline(always)]
     pub fn push(&mut self, sub: usize, timestamp: u64, offset: u64) {
-        let row = Row {
+        let (low, high) = self.usual;
+        if (low..=high).contains(&timestamp) {
+            // Most rows move neither bound.
+            let above = self.clock.map_or(true, |c| timestamp > c);
+            let below = self.low.map_or(true, |l| timestamp < l);
+            if above || below {
+                self.confirm(timestamp);
+                self.refresh();
+            }
+            return;
+        }
+        self.push_other(Row {
             sub,
             timestamp,
             offset,
+        });
+        self.refresh();
+    }
+
+    /// Where the usual row's timestamps lie, for the state as it stands.
+    #[inline(always)]
+    fn refresh(&mut self) {
+        self.usual = match self.clock {
+            Some(clock) if self.pending.is_none() && self.settled => {
+                let start = if self.header > 0 {
+                    self.header
+                } else {
+                    self.low.unwrap_or(clock)
+                };
+                let limit = JUMP_US.max(clock.saturating_sub(start));
+                (self.header.max(1), clock.saturating_add(limit))
+            }
+            // None: every row takes the long way.
+            _ => (1, 0),
         };
+    }
+
+    /// A row that is not the usual one (or may not be).
+    fn push_other(&mut self, row: Row) {
+        let timestamp = row.timestamp;
         if timestamp < self.header {
             if timestamp == 0 || self.header - timestamp > EARLY_OUTLIER_US {
                 note(&mut self.outliers, OutlierSide::BeforeStart, row);
@@ -362,6 +405,7 @@ impl SpanTracker {
         timestamp > clock.saturating_add(limit)
     }
 
+    #[inline(always)]
     fn confirm(&mut self, timestamp: u64) {
         self.clock = Some(self.clock.map_or(timestamp, |c| c.max(timestamp)));
         if timestamp > 0 {

@@ -52,6 +52,7 @@ where
         msg_id: u16::from_le_bytes([payload[0], payload[1]]),
         topic,
         payload: &payload[2..],
+        sub,
     };
     match f.data(record) {
         Hand::Next => true,

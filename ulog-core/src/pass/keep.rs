@@ -160,7 +160,9 @@ impl LogMetadata {
 
     /// Per subscription (by [`Subscription::index`]), its data messages and their
     /// first and last timestamps, counted as the pass went by: what [`Topic::len`]
-    /// gives of a parsed log.
+    /// gives of a parsed log. A topic whose times the pass did not follow
+    /// ([`ScanOptions::topics`](crate::ScanOptions::topics)) has its rows counted and
+    /// no timestamps.
     ///
     /// [`Topic::len`]: crate::Topic::len
     pub fn topics(&self) -> &[TopicRows] {
@@ -219,6 +221,13 @@ pub struct TopicRows {
 struct Sub {
     clock: Unwrapper,
     rows: TopicRows,
+    /// Whether its times count among the log's ([`ScanOptions::topics`]).
+    ///
+    /// [`ScanOptions::topics`]: crate::ScanOptions::topics
+    follow: bool,
+    /// Whether its timestamps are read at all: followed, or needed for the UTC
+    /// clock, the events or the kept data.
+    timed: bool,
     /// Whether its data messages are kept too.
     keep: bool,
     gps: Option<GpsTime>,
@@ -232,6 +241,8 @@ pub(crate) struct Keeper<'v, V: ?Sized> {
     inner: &'v mut V,
     /// The topics whose data messages are kept.
     keep: &'v [String],
+    /// The topics whose times are followed; `None`: all.
+    only: Option<&'v [String]>,
     bytes: Vec<u8>,
     times: Vec<(u64, u64)>,
     places: Vec<(u64, u64)>,
@@ -250,10 +261,11 @@ pub(crate) struct Keeper<'v, V: ?Sized> {
 }
 
 impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
-    pub fn new(inner: &'v mut V, keep: &'v [String]) -> Keeper<'v, V> {
+    pub fn new(inner: &'v mut V, keep: &'v [String], only: Option<&'v [String]>) -> Keeper<'v, V> {
         Keeper {
             inner,
             keep,
+            only,
             // The header, filled in at the end.
             bytes: vec![0; HEADER_SIZE],
             times: Vec::new(),
@@ -313,14 +325,34 @@ impl<'v, V: Visit + ?Sized> Keeper<'v, V> {
                 && !framer.defs.subscriptions()[..sub.index()]
                     .iter()
                     .any(|s| s.multi_id() == 0 && s.name() == sub.name());
+            let follow = match self.only {
+                Some(only) => only.iter().any(|n| n == sub.name()),
+                None => true,
+            };
+            let keep = self.keep.iter().any(|k| k == sub.name());
+            let gps = if first { self.utc.gps_time(sub) } else { None };
+            #[cfg(feature = "events")]
+            let event = first && sub.name() == "event";
+            #[cfg(not(feature = "events"))]
+            let event = false;
             self.subs.push(Sub {
                 clock: Unwrapper::new(sub.timestamp_field()),
                 rows: TopicRows::default(),
-                keep: self.keep.iter().any(|k| k == sub.name()),
-                gps: if first { self.utc.gps_time(sub) } else { None },
+                follow,
+                timed: follow || keep || gps.is_some() || event,
+                keep,
+                gps,
                 #[cfg(feature = "events")]
-                event: first && sub.name() == "event",
+                event,
             });
+            // A topic left out is not handed on (`scan` would skip it at its first
+            // record; here it costs no call at all).
+            if !follow {
+                if self.skip.len() <= sub.index() {
+                    self.skip.resize(sub.index() + 1, false);
+                }
+                self.skip[sub.index()] = true;
+            }
         }
     }
 
@@ -365,20 +397,25 @@ fn keep_data(bytes: &mut Vec<u8>, record: &DataRecord<'_>) {
 impl<V: Visit + ?Sized> Visit for Keeper<'_, V> {
     #[inline(always)]
     fn data(&mut self, record: DataRecord<'_>) -> Hand {
-        let i = record.topic.index();
+        let i = record.sub as usize;
         // Framing makes a subscription at its `A` message, which `other` saw.
         if let Some(sub) = self.subs.get_mut(i) {
-            let time = sub.clock.push(record.payload);
             sub.rows.rows += 1;
+            let time = match sub.timed {
+                true => sub.clock.push(record.payload),
+                false => None,
+            };
             if let Some(t) = time {
-                self.clock = self.clock.max(t);
-                if let Some(span) = &mut self.span {
-                    span.push(i, t, record.offset);
+                if sub.follow {
+                    self.clock = self.clock.max(t);
+                    if let Some(span) = &mut self.span {
+                        span.push(i, t, record.offset);
+                    }
+                    if sub.rows.first_timestamp.is_none() {
+                        sub.rows.first_timestamp = time;
+                    }
+                    sub.rows.last_timestamp = time;
                 }
-                if sub.rows.first_timestamp.is_none() {
-                    sub.rows.first_timestamp = time;
-                }
-                sub.rows.last_timestamp = time;
                 if let Some(at) = sub.gps {
                     self.utc.push(at, record.payload, t);
                 }
@@ -482,5 +519,77 @@ mod tests {
         assert_eq!(log.logged_messages().len(), 1);
         assert_eq!(kept.last_timestamp(), whole.last_timestamp());
         assert_eq!(log.last_timestamp(), 65_546);
+    }
+
+    /// With `ScanOptions::topics`, the kept metadata is that of the log as the
+    /// topics named see it: the same as the whole-file parse of the log written
+    /// without the other topics' rows (pyulog's `message_name_filter_list`), but
+    /// for the UTC clock, which is the whole log's, and the row counts, which are
+    /// every topic's.
+    #[test]
+    fn topics_named_keep_their_own_times() {
+        let boot = 1_707_236_822_000_000u64;
+        let write = |others: bool| {
+            let mut b = LogBuilder::new(1, 1_000);
+            b.param("int32_t A", &1i32.to_le_bytes());
+            b.format("t:uint64_t timestamp;uint8_t x;");
+            b.format("u:uint64_t timestamp;uint8_t x;");
+            b.format("vehicle_gps_position:uint64_t timestamp;uint64_t time_utc_usec;uint8_t fix_type;uint8_t[7] _padding0;");
+            b.subscribe(0, 0, "t").subscribe(0, 1, "u");
+            b.subscribe(0, 2, "vehicle_gps_position");
+            let row = |t: u64| [&t.to_le_bytes()[..], &[1]].concat();
+            let gps = |t: u64| {
+                let mut p = t.to_le_bytes().to_vec();
+                p.extend_from_slice(&(boot + t).to_le_bytes());
+                p.extend_from_slice(&[3, 0, 0, 0, 0, 0, 0, 0]);
+                p
+            };
+            for k in 0..6u64 {
+                b.data(0, &row(2_000 + k * 1_000));
+                if others {
+                    // Ahead of `t`, and far ahead once.
+                    b.data(1, &row(if k == 3 { 90_000 } else { 2_500 + k * 1_000 }));
+                    b.data(2, &gps(2_600 + k * 1_000));
+                }
+                if k % 2 == 1 {
+                    b.param("int32_t A", &(k as i32).to_le_bytes());
+                    b.dropout(10 + k as u16);
+                }
+            }
+            b.into_bytes()
+        };
+        let (bytes, alone) = (write(true), write(false));
+        let only = ScanOptions::default().keep_metadata(true).topics(["t"]);
+        let mut handed = std::collections::BTreeSet::new();
+        let summary = scan(&bytes, &only, |r| {
+            handed.insert(r.topic.name().to_owned());
+        })
+        .unwrap();
+        assert_eq!(handed.into_iter().collect::<Vec<_>>(), ["t"]);
+        let kept = summary.metadata.unwrap();
+        let log = kept.log().unwrap();
+        let expected = ULog::parse(&alone).unwrap();
+        let times = |l: &ULog<'_>| -> Vec<u64> {
+            let changes = l.param_changes().iter().map(|c| c.timestamp);
+            changes
+                .chain(l.dropouts().iter().map(|d| d.timestamp))
+                .collect()
+        };
+        assert_eq!(times(&log), times(&expected));
+        assert_eq!(times(&log), [3_000, 5_000, 7_000, 3_000, 5_000, 7_000]);
+        assert_ne!(times(&log), times(&ULog::parse(&bytes).unwrap()));
+        assert_eq!(kept.last_timestamp(), expected.last_timestamp());
+        assert_eq!(kept.last_timestamp(), 7_000);
+        assert_eq!(kept.span(), expected.span());
+        // Every topic's rows counted; times only for the one followed.
+        let rows: Vec<_> = kept
+            .topics()
+            .iter()
+            .map(|t| (t.rows, t.last_timestamp))
+            .collect();
+        assert_eq!(rows, [(6, Some(7_000)), (6, None), (6, None)]);
+        // The whole log's UTC clock, from the GPS rows the filter leaves out.
+        let whole = ULog::parse(&bytes).unwrap().utc().unwrap();
+        assert_eq!(kept.utc().unwrap().boot_us(), whole.boot_us());
     }
 }

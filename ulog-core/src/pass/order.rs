@@ -36,7 +36,7 @@ struct Cursor {
 /// and the pass ends at the first record at or after its end.
 pub(crate) fn time_ordered<F>(
     source: Source<'_>,
-    keep: Option<&[String]>,
+    keep: Option<(&[String], Option<&[String]>)>,
     window: Option<Range<u64>>,
     f: &mut F,
 ) -> Result<ScanSummary, ReadError>
@@ -59,7 +59,7 @@ where
 /// the topics `keep` names).
 fn walk_keeping<F>(
     log: &ULog<'_>,
-    keep: Option<&[String]>,
+    keep: Option<(&[String], Option<&[String]>)>,
     window: Option<Range<u64>>,
     f: &mut F,
 ) -> Result<ScanSummary, ReadError>
@@ -67,12 +67,14 @@ where
     F: FnMut(DataRecord<'_>, Option<u64>) -> Hand,
 {
     let mut summary = walk(log, window, f);
-    if let Some(topics) = keep {
-        let kept = drive_keeping(Source::from(log), false, topics, &mut |_: DataRecord<
-            '_,
-        >| {
-            Hand::Next
-        })?;
+    if let Some((topics, only)) = keep {
+        let kept = drive_keeping(
+            Source::from(log),
+            false,
+            topics,
+            only,
+            &mut |_: DataRecord<'_>| Hand::Next,
+        )?;
         summary.metadata = kept.metadata;
     }
     Ok(summary)
@@ -138,6 +140,7 @@ where
             msg_id: u16::from_le_bytes([data[at], data[at + 1]]),
             topic: &topics[c.sub],
             payload: data_payload_at(data, c.offset),
+            sub: c.sub as u32,
         };
         match f(record, c.timestamp) {
             Hand::Next => {

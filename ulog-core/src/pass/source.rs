@@ -205,6 +205,19 @@ const AHEAD_CHUNK: usize = 1 << 20;
 /// more is moved the slow way).
 const CARRY_ROOM: usize = 128 * 1024;
 
+/// The memory page: each chunk read ahead is read to a page boundary of its buffer.
+/// The kernel copies a cached file's pages about three times as fast to an address on
+/// a page boundary as to one 16 bytes past it, where a buffer that `malloc` maps
+/// starts (a 302 MB log's pass: 0.14 s → 0.07 s; bench/README.md).
+const PAGE: usize = 4096;
+
+/// Where the chunk of a buffer read ahead starts: the first page boundary of `buf`
+/// at or after `room` (buffers have a page more than `room` and the chunk).
+fn chunk_at(buf: &[u8], room: usize) -> usize {
+    let addr = buf.as_ptr() as usize + room;
+    room + (PAGE - addr % PAGE) % PAGE
+}
+
 /// Frames the whole log of `source` in file order, handing each data message to `f`;
 /// `read_ahead` reads a reader's or file's next chunk on a second thread.
 pub(crate) fn drive<F>(
@@ -227,13 +240,14 @@ pub(crate) fn drive_keeping<F>(
     source: Source<'_>,
     read_ahead: bool,
     keep: &[String],
+    only: Option<&[String]>,
     f: &mut F,
 ) -> Result<ScanSummary, ReadError>
 where
     F: Visit + ?Sized,
 {
     let mut driver = Driver::new();
-    let mut keeper = Keeper::new(f, keep);
+    let mut keeper = Keeper::new(f, keep, only);
     drive_with(source, read_ahead, &mut driver, &mut keeper)?;
     let mut summary = driver.summary();
     summary.metadata = Some(keeper.finish(&summary));
@@ -341,8 +355,8 @@ where
     }
 }
 
-/// A chunk read ahead: the buffer (the bytes at `room..room + n`) and `n` (0: the
-/// end of the source).
+/// A chunk read ahead: the buffer (the bytes at `chunk_at(buf, room)`, `n` of them)
+/// and `n` (0: the end of the source).
 type Chunk = std::io::Result<(Vec<u8>, usize)>;
 
 /// [`read_chunks`] with each chunk of `chunk` bytes read on a second thread while the
@@ -372,10 +386,11 @@ where
         let (full_tx, full) = sync_channel::<Chunk>(1);
         let (free, free_rx) = sync_channel::<Vec<u8>>(2);
         for _ in 0..2 {
-            let _ = free.send(vec![0u8; room + chunk]);
+            let _ = free.send(vec![0u8; room + PAGE + chunk]);
         }
         let builder = std::thread::Builder::new().name("ulog read-ahead".to_owned());
-        let reader = match builder.spawn_scoped(s, move || fill_chunks(src, room, full_tx, free_rx))
+        let reader = match builder
+            .spawn_scoped(s, move || fill_chunks(src, room, chunk, full_tx, free_rx))
         {
             Ok(reader) => reader,
             Err(e) => return Err(ReadError::io(e, Some(0))),
@@ -423,13 +438,14 @@ where
             }
         };
         let carried = carry.len();
-        if carried <= room {
-            next[room - carried..room].copy_from_slice(&cur[carry]);
-            (start, end) = (room - carried, room + n);
+        let at = chunk_at(&next, room);
+        if carried <= at {
+            next[at - carried..at].copy_from_slice(&cur[carry]);
+            (start, end) = (at - carried, at + n);
         } else {
             let mut joined = Vec::with_capacity(carried + n);
             joined.extend_from_slice(&cur[carry]);
-            joined.extend_from_slice(&next[room..room + n]);
+            joined.extend_from_slice(&next[at..at + n]);
             (start, end) = (0, joined.len());
             let _ = free.try_send(std::mem::replace(&mut next, joined));
         }
@@ -439,23 +455,26 @@ where
         // Buffers of the reader's size go back to it (a joined one may happen to
         // be one); others go. (`try_send`: one the reader has no room for goes
         // too, rather than wait.)
-        if done.len() == room + chunk {
+        if done.len() == room + PAGE + chunk {
             let _ = free.try_send(done);
         }
     }
 }
 
-/// The reading thread of [`read_ahead_chunks`]: reads into the buffers it is given,
-/// after `room` bytes, once each (what one read gives: a whole chunk from a file, what
-/// has arrived from a pipe), and sends them on, until the end of `src` or an error.
+/// The reading thread of [`read_ahead_chunks`]: reads up to `chunk` bytes into the
+/// buffers it is given, at the first page boundary after `room` bytes, once each (what
+/// one read gives: a whole chunk from a file, what has arrived from a pipe), and sends
+/// them on, until the end of `src` or an error.
 fn fill_chunks<R: Read>(
     mut src: R,
     room: usize,
+    chunk: usize,
     full: std::sync::mpsc::SyncSender<Chunk>,
     free: std::sync::mpsc::Receiver<Vec<u8>>,
 ) {
     while let Ok(mut buf) = free.recv() {
-        let read = read_some(&mut src, &mut buf[room..]);
+        let at = chunk_at(&buf, room);
+        let read = read_some(&mut src, &mut buf[at..at + chunk]);
         let last = !matches!(read, Ok(n) if n > 0);
         let sent = full.send(read.map(|n| (buf, n)));
         if sent.is_err() || last {

@@ -126,6 +126,7 @@ where
                 source,
                 options.read_ahead,
                 &options.keep_data,
+                None,
                 &mut |r: DataRecord<'_>| {
                     hand(&mut plans, raw_others, &window, f, &r, |u| {
                         u.push(r.payload)
@@ -145,9 +146,12 @@ where
             // Through a trait object: `f` keeps one direct call site (the file-order
             // loop), where it can be inlined.
             let f: &mut dyn Handler<E, R> = &mut f;
-            time_ordered(source, options.kept(), window.clone(), &mut |r, t| {
-                hand(&mut plans, raw_others, &window, f, &r, |_| t)
-            })
+            time_ordered(
+                source,
+                options.kept().map(|(keep, _)| (keep, None)),
+                window.clone(),
+                &mut |r, t| hand(&mut plans, raw_others, &window, f, &r, |_| t),
+            )
         }
     }
 }

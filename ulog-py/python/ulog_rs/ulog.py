@@ -63,6 +63,9 @@ class _Decoder:
     def __init__(self, strict):
         self.errors = "strict" if strict else "ignore"
         self.corrupt = False
+        # Key bytes → (type, name, how to read the value): a log repeats its keys
+        # (the parts of a multi-information message, thousands in a PX4 log).
+        self._keys = {}
 
     def text(self, raw):
         return str(raw, "utf-8", self.errors)
@@ -70,21 +73,30 @@ class _Decoder:
     def key_value(self, key, raw):
         """``(type, name, value)`` of an information or parameter message, or
         ``None`` for one pyulog counts as corruption (a key without a type)."""
-        parts = self.text(key).split(" ")
-        if len(parts) < 2:
-            self.corrupt = True
-            return None
-        type_str, name = parts[0], parts[1]
-        if type_str.startswith("char["):
-            value = self.text(raw)
-        elif type_str in _TYPES:
-            try:
-                (value,) = struct.unpack("<" + _TYPES[type_str][0], raw)
-            except struct.error:
+        known = self._keys.get(key)
+        if known is None:
+            parts = self.text(key).split(" ")
+            if len(parts) < 2:
                 self.corrupt = True
                 return None
-        else:
-            value = raw
+            type_str, name = parts[0], parts[1]
+            if type_str.startswith("char["):
+                read = str
+            elif type_str in _TYPES:
+                read = struct.Struct("<" + _TYPES[type_str][0]).unpack
+            else:
+                read = None
+            known = self._keys[key] = (type_str, name, read)
+        type_str, name, read = known
+        if read is None:
+            return type_str, name, raw
+        if read is str:
+            return type_str, name, self.text(raw)
+        try:
+            (value,) = read(raw)
+        except struct.error:
+            self.corrupt = True
+            return None
         return type_str, name, value
 
 
@@ -418,7 +430,8 @@ class ULog:
         )
         self._findings = [Finding(*f) for f in raw["findings"]]
         self._utc = UtcClock(*raw["utc"]) if raw.get("utc") else None
-        self._events = [Event(*e) for e in raw.get("events", [])]
+        # Decoded when first asked for (most loads never are).
+        self._events = raw.get("events", [])
         self._file_corrupt = bool(raw["corrupt"] or dec.corrupt)
 
     # pyulog's public API
@@ -619,6 +632,8 @@ class ULog:
     @property
     def events(self):
         """The PX4 events of the log's ``event`` topic, decoded (``Event``)."""
+        if not isinstance(self._events, list):
+            self._events = [Event(*e) for e in self._events.decode()]
         return self._events
 
     @property
@@ -654,4 +669,10 @@ class ULog:
         )
 
     __hash__ = None
+
+    def __getstate__(self):
+        # The events still to decode are a Rust object: decoded for a copy or a
+        # pickle.
+        self.events
+        return self.__dict__
 
