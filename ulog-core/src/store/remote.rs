@@ -653,7 +653,10 @@ mod tests {
         assert!(all.iter().enumerate().all(|(i, b)| *b == (i % 251) as u8));
 
         // A reader dropped after 2 MiB: the server sends the first chunk, what the
-        // reader holds ahead and what the connection buffers, not the rest.
+        // reader holds ahead and what the connection buffers, not the rest. (Of a
+        // larger object: on a loaded machine the connection took 25 MB of 48 MB before
+        // the drop reached it, in one CI run.)
+        let size = 256 << 20;
         let (url, sent_early) = serve(size, None);
         let mut reader = Remote::parse(&url).expect("url").reader();
         let mut first = vec![0; 2 << 20];
@@ -662,8 +665,8 @@ mod tests {
         drop(reader);
         std::thread::sleep(std::time::Duration::from_millis(300));
         let early = sent_early.load(std::sync::atomic::Ordering::Relaxed);
-        assert!(early < size / 2, "{early} of {size} bytes sent");
-        assert!(sent.load(std::sync::atomic::Ordering::Relaxed) >= size);
+        assert!(early < size / 4, "{early} of {size} bytes sent");
+        assert!(sent.load(std::sync::atomic::Ordering::Relaxed) >= 48 << 20);
     }
 
     #[test]
