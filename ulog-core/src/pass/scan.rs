@@ -290,7 +290,7 @@ where
     R: ScanFlow,
 {
     // A topic left out is answered without a call to `f`, once: the pass skips it
-    // from then on (a keeping pass still follows it).
+    // from then on. (A keeping pass leaves it out itself, before its first record.)
     let wanted = |r: &DataRecord<'_>| match &options.topics {
         Some(names) => names.iter().any(|n| n == r.topic.name()),
         None => true,
