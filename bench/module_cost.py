@@ -5,6 +5,7 @@
     python3 bench/module_cost.py --log some.ulg --runs 3
     python3 bench/module_cost.py --topics sensor_combined,vehicle_attitude
     python3 bench/module_cost.py --root ../ulog-base       # another checkout (before/after)
+    python3 bench/module_cost.py --runs 5 --before ../ulog-base   # both in turn, and the ratios
 
 Writes a small Cargo workspace under the target directory (`target/module-cost/`,
 or `$CARGO_TARGET_DIR/module-cost/`) whose library is `ulog_module!` on the log and
@@ -183,16 +184,35 @@ def write(path, text):
             f.write(text)
 
 
+def older_api(root):
+    """Whether `root` is a checkout from before issue 44's module options (`unbound`,
+    `topics`, `Generated::bound`): 275b8bb, the code the issue measured."""
+    with open(os.path.join(root, "ulog-codegen", "src", "lib.rs")) as f:
+        return "pub bound:" not in f.read()
+
+
 def generate(work, root, log, topics):
     write(os.path.join(work, "Cargo.toml"), MANIFEST.format(root=root))
     write(os.path.join(work, "lib", "Cargo.toml"), LIB_MANIFEST)
+    lib, lines = LIB, LINES
+    if older_api(root):
+        if topics:
+            sys.exit("module_cost: --topics needs a checkout with `ulog_module!`'s topic list")
+        lib = lib.replace("unbound = allow; ", "")
+        lines = (
+            lines.replace("topics: topics.as_deref(),", "")
+            .replace("let topics: Option", "let _topics: Option")
+            .replace("g.bound.len().max(1)", "g.formats.max(1)")
+            .replace("g.bound.len()", "g.formats")
+            .replace("g.unbound.len()", "g.skipped.len()")
+        )
     listed = ""
     if topics:
         listed = "topics = [" + ", ".join(f'"{t}"' for t in topics) + "];"
-    write(os.path.join(work, "lib", "src", "lib.rs"), LIB.format(topics=listed))
+    write(os.path.join(work, "lib", "src", "lib.rs"), lib.format(topics=listed))
     write(os.path.join(work, "lib", "src", "main.rs"), MAIN)
     write(os.path.join(work, "lines", "Cargo.toml"), LINES_MANIFEST)
-    write(os.path.join(work, "lines", "src", "main.rs"), LINES)
+    write(os.path.join(work, "lines", "src", "main.rs"), lines)
     # The repository's lock: the dependencies at the versions the workspace tests.
     lock = os.path.join(work, "Cargo.lock")
     if not os.path.exists(lock):
@@ -228,6 +248,12 @@ def timing(stderr):
     return seconds, cpu, rss
 
 
+def median(xs):
+    xs = sorted(xs)
+    n = len(xs)
+    return xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--log", help=f"the log (default: {DEFAULT_LOG} of the shared corpus)")
@@ -235,34 +261,58 @@ def main():
     ap.add_argument("--runs", type=int, default=2, help="rebuilds per profile (default 2)")
     ap.add_argument("--profiles", default="dev,release", help="default: dev,release")
     ap.add_argument("--root", help="the checkout whose crates to build (default: this one)")
+    ap.add_argument(
+        "--before",
+        help="a second checkout, built in turn with the first (one build of each per run), "
+        "and the ratio of the medians",
+    )
     args = ap.parse_args()
     log = args.log or os.path.join(corpus_dir(), "files", DEFAULT_LOG)
     if not os.path.exists(log):
         sys.exit(f"module_cost: {log} is missing (give --log or set ULOG_CORPUS)")
     topics = [t for t in (args.topics or "").split(",") if t]
-    root = os.path.abspath(args.root) if args.root else ROOT
-    work = target_dir(root)
-    generate(work, root, log, topics)
-
-    line_args = ["run", "--quiet", "--release", "-p", "module-lines", "--", log]
-    if topics:
-        line_args.append(",".join(topics))
-    print("generated:", cargo(work, line_args).stdout.strip(), flush=True)
+    roots = [os.path.abspath(args.root) if args.root else ROOT]
+    if args.before:
+        roots.append(os.path.abspath(args.before))
+    works = []
+    for root in roots:
+        work = target_dir(root)
+        generate(work, root, log, topics)
+        line_args = ["run", "--quiet", "--release", "-p", "module-lines", "--", log]
+        if topics:
+            line_args.append(",".join(topics))
+        name = os.path.basename(root.rstrip("/"))
+        print(f"{name}: generated:", cargo(work, line_args).stdout.strip(), flush=True)
+        works.append((name, work))
 
     for profile in args.profiles.split(","):
         flags = ["--profile", profile]
-        cargo(work, ["build", "-p", "module-cost", "--lib"] + flags)
-        results = []
+        results = {name: [] for name, _ in works}
+        for _, work in works:
+            cargo(work, ["build", "-p", "module-cost", "--lib"] + flags)
+        # In turn, so that a slow spell of the machine falls on every checkout.
         for _ in range(args.runs):
-            os.utime(os.path.join(work, "lib", "src", "lib.rs"))
-            r = cargo(work, ["build", "-p", "module-cost", "--lib"] + flags, timed=True)
-            results.append(timing(r.stderr))
-        walls = ", ".join(f"{w:.1f}" for w, _, _ in results)
-        cpus = ", ".join(f"{c:.1f}" for _, c, _ in results)
-        rss = max(m for _, _, m in results)
-        print(f"{profile}: crate alone wall s [{walls}]  cpu s [{cpus}]  peak RSS {rss:.0f} MiB", flush=True)
-        r = cargo(work, ["run", "--quiet", "-p", "module-cost"] + flags)
-        print(f"{profile}: decode: {r.stdout.strip()}", flush=True)
+            for name, work in works:
+                os.utime(os.path.join(work, "lib", "src", "lib.rs"))
+                r = cargo(work, ["build", "-p", "module-cost", "--lib"] + flags, timed=True)
+                results[name].append(timing(r.stderr))
+        for name, work in works:
+            rs = results[name]
+            walls = ", ".join(f"{w:.1f}" for w, _, _ in rs)
+            cpus = ", ".join(f"{c:.1f}" for _, c, _ in rs)
+            rss = max(m for _, _, m in rs)
+            print(
+                f"{name}: {profile}: crate alone wall s [{walls}] (median {median([w for w, _, _ in rs]):.2f})"
+                f"  cpu s [{cpus}] (median {median([c for _, c, _ in rs]):.2f})  peak RSS {rss:.0f} MiB",
+                flush=True,
+            )
+            r = cargo(work, ["run", "--quiet", "-p", "module-cost"] + flags)
+            print(f"{name}: {profile}: decode: {r.stdout.strip()}", flush=True)
+        if len(works) == 2:
+            (a, _), (b, _) = works
+            wall = median([w for w, _, _ in results[a]]) / median([w for w, _, _ in results[b]])
+            cpu = median([c for _, c, _ in results[a]]) / median([c for _, c, _ in results[b]])
+            print(f"{profile}: {a} / {b}: wall {wall:.3f}, cpu {cpu:.3f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -221,7 +221,7 @@ struct BatteryStatus {
 fn instances_are_read_each_on_its_own() {
     let bytes = battery_log();
     let log = ULog::parse(&bytes).unwrap();
-    let instances = log.read_instances::<BatteryStatus>().unwrap();
+    let instances: Vec<_> = log.read_instances::<BatteryStatus>().unwrap().collect();
     assert_eq!(instances.len(), 3);
     let v0 = instances[0]
         .as_ref()

@@ -287,7 +287,7 @@ fn a_binding_finds_its_topic_under_an_alias() {
     assert_eq!(fixes[0].latitude_deg, Some(47.3977418));
     assert_eq!(fixes[0].lat, None);
     assert_eq!(fixes[0].satellites_used, 12);
-    let instances = log.read_instances::<GpsFix>().unwrap();
+    let instances: Vec<_> = log.read_instances::<GpsFix>().unwrap().collect();
     assert_eq!(instances.len(), 2);
     assert_eq!(instances[1].as_ref().unwrap().topic().multi_id(), 1);
 

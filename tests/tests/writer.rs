@@ -338,8 +338,7 @@ fn crash_data_is_appended_as_the_spec_describes() {
         let crashes: usize = log
             .read_instances::<HardfaultInfo>()
             .unwrap()
-            .iter()
-            .map(|r| r.as_ref().unwrap().len())
+            .map(|r| r.unwrap().len())
             .sum();
         assert_eq!(crashes, round as usize + 1);
     }

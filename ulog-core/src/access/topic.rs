@@ -151,7 +151,9 @@ impl Payloads<'_, '_> {
 impl<'a> Iterator for Payloads<'_, 'a> {
     type Item = &'a [u8];
 
-    #[inline]
+    // Always: the typed rows' cursor calls it from code compiled once for every
+    // binding, where LLVM otherwise kept the call (a fifth more instructions a row).
+    #[inline(always)]
     fn next(&mut self) -> Option<&'a [u8]> {
         let o = self.offsets.next()?;
         if self.span > 0 {

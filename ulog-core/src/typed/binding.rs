@@ -111,6 +111,21 @@ macro_rules! __binding_impls {
             fn schema() -> &'static $crate::typed::Schema {
                 <$t as $crate::typed::__private::Binding>::schema()
             }
+            #[inline]
+            fn visit_fields(
+                &self,
+                f: &mut dyn ::core::ops::FnMut(&str, $crate::typed::__private::Value<'_>),
+            ) {
+                $crate::typed::__private::binding::visit(self, &mut ::std::string::String::new(), f)
+            }
+            #[inline]
+            fn visit_fields_at(
+                &self,
+                path: &mut ::std::string::String,
+                f: &mut dyn ::core::ops::FnMut(&str, $crate::typed::__private::Value<'_>),
+            ) {
+                $crate::typed::__private::binding::visit(self, path, f)
+            }
         }
         impl ::core::default::Default for $t {
             /// Every field zero.
@@ -135,8 +150,10 @@ pub mod impls {
     /// `WireField::from_image`.
     #[inline]
     pub fn from_image<T: Binding>(image: &[u8]) -> Option<T> {
-        let whole = image.len() == core::mem::size_of::<T::Wire>();
-        whole.then(|| T::read(&mut Reader::new(image)))
+        match image.len() == core::mem::size_of::<T::Wire>() {
+            true => Some(T::read(&mut Reader::new(image))),
+            false => None,
+        }
     }
 
     /// `WireField::from_payload`: through a wire image filled from the payload by
@@ -154,9 +171,11 @@ pub mod impls {
         wire
     }
 
-    /// `WireField::visit`: the wire image read as the reader reads a payload.
+    /// `WireField::visit` and `ULogMessage::visit_fields`: the wire image read as the
+    /// reader reads a payload.
     pub fn visit<T: Binding>(value: &T, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-        let wire = to_wire(value);
+        let mut wire = T::Wire::new_zeroed();
+        value.write(&mut Writer::new(wire.as_mut_bytes()));
         visit_image(T::schema().layout(), wire.as_bytes(), path, f);
     }
 }

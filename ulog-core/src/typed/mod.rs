@@ -52,6 +52,7 @@ pub use error::{
 };
 pub use message::{BindingVisitor, ViewVisitor};
 pub use plan::{Plan, PlanKind};
+pub use rows::{Instances, RowsIter};
 pub use scan::TopicHandler;
 pub use schema::{Absent, FieldDef, FieldKind, Schema};
 pub use topics::TopicPlan;

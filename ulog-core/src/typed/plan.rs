@@ -83,6 +83,11 @@ impl BindingOf {
             own: core::mem::size_of::<T::Wire>(),
         }
     }
+
+    /// The binding's schema.
+    pub(crate) fn schema(&self) -> &'static Schema {
+        self.schema
+    }
 }
 
 /// What the walk over a binding's fields collects.
@@ -182,7 +187,7 @@ impl RawPlan {
         })
     }
 
-    fn length_error(&self, len: usize) -> DecodeError {
+    pub(crate) fn length_error(&self, len: usize) -> DecodeError {
         DecodeError {
             kind: DecodeErrorKind::Length {
                 size: self.size,
@@ -192,7 +197,7 @@ impl RawPlan {
         }
     }
 
-    fn present(&self) -> Present<'_> {
+    pub(crate) fn present(&self) -> Present<'_> {
         if self.present.is_empty() {
             Present::ALL
         } else {
@@ -223,23 +228,37 @@ impl RawPlan {
     }
 
     /// [`decode`](RawPlan::decode) of a binding read only through its wire image:
-    /// one call of its code, the image the payload's prefix or filled here.
-    #[inline(always)]
+    /// one call of its code, on the image that [`image`](RawPlan::image) finds or
+    /// fills. What depends on the binding is only that call and the image's size, so
+    /// that each binding a program reads adds little code (bench/README.md, what
+    /// `ulog_module!` costs a crate).
+    #[inline]
     fn decode_image<T: WireField>(&self, payload: &[u8]) -> Result<T, DecodeError> {
-        let mut wire;
-        let image = match self.exact_image(payload)? {
-            Some(image) => image,
-            None => {
-                wire = T::Wire::new_zeroed();
-                let image = wire.as_mut_bytes();
-                self.fill_image(payload, image, T::KIND)?;
-                &*image
-            }
-        };
+        let mut wire = T::Wire::new_zeroed();
+        let image = self.image(payload, wire.as_mut_bytes(), T::KIND)?;
         match T::from_image(image, self.present()) {
             Some(value) => Ok(value),
             None => Err(self.length_error(payload.len())),
         }
+    }
+
+    /// The binding's wire image of a payload: the payload's prefix (an exact plan), or
+    /// `wire` (the binding's size) zeroed and filled from it.
+    #[inline]
+    pub(crate) fn image<'p>(
+        &self,
+        payload: &'p [u8],
+        wire: &'p mut [u8],
+        kind: FieldKind,
+    ) -> Result<&'p [u8], DecodeError> {
+        Ok(match self.exact_image(payload)? {
+            Some(image) => image,
+            None => {
+                wire.fill(0);
+                self.fill_image(payload, wire, kind)?;
+                wire
+            }
+        })
     }
 
     /// The payload's prefix that is the binding's wire image (an exact plan); `None`
@@ -684,6 +703,11 @@ impl<T: ULogMessage> Plan<T> {
     /// the error lists every difference.
     pub fn new(file_layout: &Layout) -> Result<Plan<T>, Mismatch> {
         RawPlan::new::<T>(file_layout).map(Plan::from_raw)
+    }
+
+    /// The plan past what depends on `T`.
+    pub(crate) fn raw(&self) -> &RawPlan {
+        &self.raw
     }
 
     /// The plan made by [`RawPlan::new`] for `T`.

@@ -1,13 +1,16 @@
 //! [`TypedRows`]: the rows of one topic instance of a parsed log, decoded into a
 //! binding; [`ULog::read`] and [`ULog::read_instances`].
 
+use core::marker::PhantomData;
+
 use crate::access::lookup::TopicNotFound;
-use crate::access::topic::Topic;
+use crate::access::topic::{Payloads, Topic};
 use crate::log::ulog::ULog;
 
-use super::error::TypedError;
+use super::error::{DecodeError, TypedError};
 use super::message::ULogMessage;
 use super::plan::{BindingOf, Plan, RawPlan};
+use super::schema::FieldKind;
 use crate::audited::WireImage;
 
 /// The rows of one topic instance decoded into `T` (see [`ULog::read`]).
@@ -49,14 +52,15 @@ impl<'l, 'a, T: ULogMessage> TypedRows<'l, 'a, T> {
 
     /// Every row, decoded, in file order. Framing has checked each payload's size
     /// against the format, so decoding does not fail on a log this reader parsed.
-    pub fn iter(&self) -> impl ExactSizeIterator<Item = Result<T, TypedError>> + '_ {
-        let offsets = self.topic.message_offsets();
-        let topic = self.topic.subscription();
-        self.topic.payloads().zip(offsets).map(move |(p, o)| {
-            self.plan
-                .decode(p)
-                .map_err(|e| TypedError::decode(topic, o, e))
-        })
+    pub fn iter(&self) -> RowsIter<'_, 'a, T> {
+        let image = match T::READS_IMAGE {
+            true => Some((T::KIND, core::mem::size_of::<T::Wire>())),
+            false => None,
+        };
+        RowsIter {
+            cursor: Cursor::new(self.topic, self.plan.raw(), image),
+            plan: &self.plan,
+        }
     }
 
     /// Every row borrowed in place as `&T`, without a copy; refused once, with the
@@ -216,25 +220,53 @@ impl<'a> ULog<'a> {
     /// Every instance of the topic `T` binds, by multi_id, each decoded into `T` or
     /// the error of that instance alone (the others are read whatever one of them
     /// holds). The outer error: the log has no instance of the topic at all.
-    pub fn read_instances<T: ULogMessage>(
-        &self,
-    ) -> Result<Vec<Result<TypedRows<'_, 'a, T>, TypedError>>, TypedError> {
-        let instances = match self.instances_of(T::NAME, T::ALIASES) {
-            Ok(found) => found,
-            Err(missing) => return Err(TypedError::not_found(missing, T::schema())),
-        };
-        let binding = BindingOf::of::<T>();
-        let mut out = Vec::with_capacity(instances.len());
-        for topic in instances {
-            out.push(match topic.plan(&binding) {
-                Ok(raw) => Ok(TypedRows {
-                    topic,
-                    plan: Plan::from_raw(raw),
-                }),
-                Err(e) => Err(e),
-            });
+    ///
+    /// ```
+    /// # #[cfg(feature = "derive")] {
+    /// #[derive(ulog_core::ULogMessage)]
+    /// #[ulog(crate = "ulog_core")]
+    /// struct BatteryStatus { timestamp: u64, voltage_v: f32 }
+    ///
+    /// let bytes = ulog_core::testing::sample_log();
+    /// let log = ulog_core::ULog::parse(&bytes).unwrap();
+    /// let instances = log.read_instances::<BatteryStatus>().unwrap();
+    /// let named = log.topics().filter(|t| t.name() == "battery_status").count();
+    /// assert_eq!(instances.len(), named);
+    /// for rows in instances {
+    ///     // Each instance planned on its own: one that does not fit is its own error.
+    ///     let rows = rows.unwrap();
+    ///     let first = rows.iter().next().unwrap().unwrap();
+    ///     assert!(first.voltage_v > 0.0, "instance {}", rows.topic().multi_id());
+    /// }
+    /// # }
+    /// ```
+    pub fn read_instances<T: ULogMessage>(&self) -> Result<Instances<'_, 'a, T>, TypedError> {
+        match self.plan_instances(&BindingOf::of::<T>(), T::NAME, T::ALIASES) {
+            Ok(planned) => Ok(Instances {
+                planned,
+                binding: PhantomData,
+            }),
+            Err(e) => Err(e),
         }
-        Ok(out)
+    }
+
+    /// [`read_instances`](ULog::read_instances) past what depends on the binding's
+    /// type: each instance's plan, or its error.
+    fn plan_instances(
+        &self,
+        binding: &BindingOf,
+        name: &'static str,
+        aliases: &'static [&'static str],
+    ) -> Result<std::vec::IntoIter<Planned<'_, 'a>>, TypedError> {
+        let instances = match self.instances_of(name, aliases) {
+            Ok(found) => found,
+            Err(missing) => return Err(TypedError::not_found(missing, binding.schema())),
+        };
+        let planned: Vec<_> = instances
+            .into_iter()
+            .map(|topic| topic.plan(binding).map(|raw| (topic, raw)))
+            .collect();
+        Ok(planned.into_iter())
     }
 
     /// Instance `multi_id` of the first of `name` and `aliases` the log has it under,
@@ -295,3 +327,152 @@ impl<'a> ULog<'a> {
         }
     }
 }
+
+/// The rows of a [`TypedRows`], decoded in file order ([`TypedRows::iter`]).
+pub struct RowsIter<'r, 'a, T> {
+    cursor: Cursor<'r, 'a>,
+    plan: &'r Plan<T>,
+}
+
+/// What [`RowsIter`] walks, the same for every binding: each row's payload, and for
+/// a binding read through its wire image that image. Kept apart from the binding so
+/// that its code is compiled once, not once per binding a program reads
+/// (bench/README.md, what `ulog_module!` costs a crate).
+struct Cursor<'r, 'a> {
+    payloads: Payloads<'r, 'a>,
+    topic: Topic<'r, 'a>,
+    plan: &'r RawPlan,
+    /// A binding read through its wire image: its kind, and its image when the
+    /// payload's prefix is not (filled from the payload).
+    image: Option<(FieldKind, Vec<u8>)>,
+}
+
+impl<'r, 'a> Cursor<'r, 'a> {
+    fn new(topic: Topic<'r, 'a>, plan: &'r RawPlan, image: Option<(FieldKind, usize)>) -> Self {
+        Cursor {
+            payloads: topic.payloads(),
+            topic,
+            plan,
+            image: image.map(|(kind, size)| (kind, vec![0; size])),
+        }
+    }
+
+    /// The row last handed out and where its message starts (for an error: the
+    /// offset is not followed row by row, which cost a sixth of a row's instructions).
+    #[cold]
+    fn last(&self) -> (&'a [u8], u64) {
+        let row = (self.topic.len() - self.payloads.len()).saturating_sub(1);
+        let offset = self.topic.message_offsets().get(row).unwrap_or(0);
+        (self.topic.payload(row).unwrap_or(&[]), offset)
+    }
+
+    /// The next row's wire image (a binding read through its image): `None` at the
+    /// end, `Some(None)` for a row refused ([`refused`](Cursor::refused) says why).
+    /// Two words, not a `Result` with the error, so that a row costs a call that
+    /// returns in registers.
+    fn next_image(&mut self) -> Option<Option<&[u8]>> {
+        let payload = self.payloads.next()?;
+        let (kind, wire) = self.image.as_mut()?;
+        Some(self.plan.image(payload, wire, *kind).ok())
+    }
+
+    /// Why the last row was refused: its image, or a binding that did not take it.
+    #[cold]
+    #[inline(never)]
+    fn refused(&mut self) -> TypedError {
+        let (payload, offset) = self.last();
+        let error = match self.image.as_mut() {
+            Some((kind, wire)) => self.plan.image(payload, wire, *kind).err(),
+            None => None,
+        };
+        let error = error.unwrap_or_else(|| self.plan.length_error(payload.len()));
+        TypedError::decode(self.topic.subscription(), offset, error)
+    }
+
+    /// The error of the last row, refused by the plan.
+    #[cold]
+    #[inline(never)]
+    fn failed(&self, error: DecodeError) -> TypedError {
+        TypedError::decode(self.topic.subscription(), self.last().1, error)
+    }
+}
+
+impl<T: ULogMessage> RowsIter<'_, '_, T> {
+    /// The next row of a binding read through its wire image.
+    #[inline]
+    fn next_from_image(&mut self) -> Option<Result<T, TypedError>> {
+        let plan = self.cursor.plan;
+        let value = match self.cursor.next_image()? {
+            Some(image) => T::from_image(image, plan.present()),
+            None => None,
+        };
+        Some(match value {
+            Some(value) => Ok(value),
+            None => Err(self.cursor.refused()),
+        })
+    }
+
+    /// The next row of any other binding.
+    #[inline]
+    fn next_decoded(&mut self) -> Option<Result<T, TypedError>> {
+        let payload = self.cursor.payloads.next()?;
+        Some(match self.plan.decode(payload) {
+            Ok(value) => Ok(value),
+            Err(e) => Err(self.cursor.failed(e)),
+        })
+    }
+}
+
+impl<T: ULogMessage> Iterator for RowsIter<'_, '_, T> {
+    type Item = Result<T, TypedError>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Result<T, TypedError>> {
+        if T::READS_IMAGE {
+            self.next_from_image()
+        } else {
+            self.next_decoded()
+        }
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.cursor.payloads.size_hint()
+    }
+}
+
+impl<T: ULogMessage> ExactSizeIterator for RowsIter<'_, '_, T> {}
+
+/// An instance's topic and plan, or its error.
+type Planned<'l, 'a> = Result<(Topic<'l, 'a>, RawPlan), TypedError>;
+
+/// Every instance of a topic, each planned for `T` or the error of that instance
+/// alone, in multi_id order ([`ULog::read_instances`]): iterate it for each
+/// instance's [`TypedRows`].
+///
+/// The instances are held apart from `T`, so that the code of the collection is
+/// compiled once and not once per binding a program reads.
+pub struct Instances<'l, 'a, T> {
+    planned: std::vec::IntoIter<Planned<'l, 'a>>,
+    binding: PhantomData<fn() -> T>,
+}
+
+impl<'l, 'a, T: ULogMessage> Iterator for Instances<'l, 'a, T> {
+    type Item = Result<TypedRows<'l, 'a, T>, TypedError>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        Some(match self.planned.next()? {
+            Ok((topic, raw)) => Ok(TypedRows {
+                topic,
+                plan: Plan::from_raw(raw),
+            }),
+            Err(e) => Err(e),
+        })
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.planned.size_hint()
+    }
+}
+
+impl<T: ULogMessage> ExactSizeIterator for Instances<'_, '_, T> {}
