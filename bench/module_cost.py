@@ -196,8 +196,6 @@ def generate(work, root, log, topics):
     write(os.path.join(work, "lib", "Cargo.toml"), LIB_MANIFEST)
     lib, lines = LIB, LINES
     if older_api(root):
-        if topics:
-            sys.exit("module_cost: --topics needs a checkout with `ulog_module!`'s topic list")
         lib = lib.replace("unbound = allow; ", "")
         lines = (
             lines.replace("topics: topics.as_deref(),", "")
@@ -274,6 +272,11 @@ def main():
     roots = [os.path.abspath(args.root) if args.root else ROOT]
     if args.before:
         roots.append(os.path.abspath(args.before))
+    names = [os.path.basename(r.rstrip("/")) for r in roots]
+    if len(set(names)) != len(names) or len(set(target_dir(r) for r in roots)) != len(roots):
+        sys.exit(f"module_cost: the checkouts need folders of different names: {roots}")
+    if topics and any(older_api(r) for r in roots):
+        sys.exit("module_cost: --topics needs checkouts with `ulog_module!`'s topic list")
     works = []
     for root in roots:
         work = target_dir(root)

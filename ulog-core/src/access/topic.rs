@@ -152,7 +152,8 @@ impl<'a> Iterator for Payloads<'_, 'a> {
     type Item = &'a [u8];
 
     // Always: the typed rows' cursor calls it from code compiled once for every
-    // binding, where LLVM otherwise kept the call (a fifth more instructions a row).
+    // binding, where LLVM otherwise kept the call (bench/README.md, what
+    // `ulog_module!` costs a crate: the cost at run time).
     #[inline(always)]
     fn next(&mut self) -> Option<&'a [u8]> {
         let o = self.offsets.next()?;

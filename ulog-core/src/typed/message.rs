@@ -101,7 +101,8 @@ pub trait ULogMessage: WireField {
     }
 
     /// [`visit_fields`](ULogMessage::visit_fields) with every path after `path` and a
-    /// dot (generated code overrides it for bindings whose values may lack fields).
+    /// dot (generated code overrides it: for bindings whose values may lack fields, and
+    /// for bindings of known formats, which walk their wire image in one function).
     #[doc(hidden)]
     fn visit_fields_at(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
         // The wire image read as the reader reads a payload: the same leaves, paths

@@ -221,6 +221,10 @@ impl<'a> ULog<'a> {
     /// the error of that instance alone (the others are read whatever one of them
     /// holds). The outer error: the log has no instance of the topic at all.
     ///
+    /// The instances come as an iterator ([`Instances`]); `.collect::<Vec<_>>()`
+    /// makes the vector this returned before (a type per binding that a program
+    /// compiled for each binding it read).
+    ///
     /// ```
     /// # #[cfg(feature = "derive")] {
     /// #[derive(ulog_core::ULogMessage)]
@@ -357,8 +361,9 @@ impl<'r, 'a> Cursor<'r, 'a> {
         }
     }
 
-    /// The row last handed out and where its message starts (for an error: the
-    /// offset is not followed row by row, which cost a sixth of a row's instructions).
+    /// The row last handed out and where its message starts, for an error: the
+    /// offsets are not followed row by row beside the payloads (bench/README.md, what
+    /// `ulog_module!` costs a crate: the cost at run time).
     #[cold]
     fn last(&self) -> (&'a [u8], u64) {
         let row = (self.topic.len() - self.payloads.len()).saturating_sub(1);
@@ -368,12 +373,16 @@ impl<'r, 'a> Cursor<'r, 'a> {
 
     /// The next row's wire image (a binding read through its image): `None` at the
     /// end, `Some(None)` for a row refused ([`refused`](Cursor::refused) says why).
-    /// Two words, not a `Result` with the error, so that a row costs a call that
-    /// returns in registers.
+    /// A slice or nothing, not a `Result` that holds the error, so that the call a
+    /// row costs returns little.
     fn next_image(&mut self) -> Option<Option<&[u8]>> {
         let payload = self.payloads.next()?;
-        let (kind, wire) = self.image.as_mut()?;
-        Some(self.plan.image(payload, wire, *kind).ok())
+        Some(match self.image.as_mut() {
+            Some((kind, wire)) => self.plan.image(payload, wire, *kind).ok(),
+            // `iter` gives every binding read through its image one: were it missing,
+            // the row would be refused with its length, not left out.
+            None => None,
+        })
     }
 
     /// Why the last row was refused: its image, or a binding that did not take it.
@@ -442,6 +451,18 @@ impl<T: ULogMessage> Iterator for RowsIter<'_, '_, T> {
 
 impl<T: ULogMessage> ExactSizeIterator for RowsIter<'_, '_, T> {}
 
+impl<T: ULogMessage> core::iter::FusedIterator for RowsIter<'_, '_, T> {}
+
+impl<T> core::fmt::Debug for RowsIter<'_, '_, T> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("RowsIter")
+            .field("topic", &self.cursor.topic)
+            .field("binding", &core::any::type_name::<T>())
+            .field("left", &self.cursor.payloads.len())
+            .finish()
+    }
+}
+
 /// An instance's topic and plan, or its error.
 type Planned<'l, 'a> = Result<(Topic<'l, 'a>, RawPlan), TypedError>;
 
@@ -475,4 +496,218 @@ impl<'l, 'a, T: ULogMessage> Iterator for Instances<'l, 'a, T> {
     }
 }
 
+impl<T: ULogMessage> DoubleEndedIterator for Instances<'_, '_, T> {
+    fn next_back(&mut self) -> Option<Self::Item> {
+        Some(match self.planned.next_back()? {
+            Ok((topic, raw)) => Ok(TypedRows {
+                topic,
+                plan: Plan::from_raw(raw),
+            }),
+            Err(e) => Err(e),
+        })
+    }
+}
+
 impl<T: ULogMessage> ExactSizeIterator for Instances<'_, '_, T> {}
+
+impl<T: ULogMessage> core::iter::FusedIterator for Instances<'_, '_, T> {}
+
+impl<T> core::fmt::Debug for Instances<'_, '_, T> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Instances")
+            .field("binding", &core::any::type_name::<T>())
+            .field("left", &self.planned.len())
+            .finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::LogBuilder;
+    use crate::typed::binding::{Binding, Reader, SchemaCell, Writer};
+    use crate::typed::Schema;
+
+    /// A binding of a known format, read through its wire image, as `ulog_module!`
+    /// writes them.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    struct Pair {
+        a: u32,
+        b: u16,
+    }
+
+    crate::__binding_impls!(Pair);
+
+    impl Binding for Pair {
+        type Wire = [u8; 6];
+        const FORMAT: &'static str = "pair:uint32_t a;uint16_t b;";
+        const SOURCES: usize = 2;
+        fn schema() -> &'static Schema {
+            static SCHEMA: SchemaCell = SchemaCell::new();
+            SCHEMA.get::<Self>()
+        }
+        fn read(r: &mut Reader<'_>) -> Self {
+            Pair {
+                a: r.get(),
+                b: r.get(),
+            }
+        }
+        fn write(&self, w: &mut Writer<'_>) {
+            w.put(&self.a);
+            w.put(&self.b);
+        }
+    }
+
+    /// A log of `format` (topic `pair`) with `rows` payloads of `a` (u32) then `b`
+    /// (u16) then `extra` zero bytes, on two instances when `instances` is 2.
+    fn log(format: &str, rows: u32, extra: usize, instances: u8) -> Vec<u8> {
+        let mut b = LogBuilder::new(1, 0);
+        b.format(format);
+        for m in 0..instances {
+            b.subscribe(m, u16::from(m), "pair");
+        }
+        for i in 0..rows {
+            for m in 0..instances {
+                let mut payload = (i + 100 * u32::from(m)).to_le_bytes().to_vec();
+                payload.extend((i as u16).to_le_bytes());
+                payload.extend(vec![0; extra]);
+                b.data(u16::from(m), &payload);
+            }
+        }
+        b.bytes().to_vec()
+    }
+
+    #[test]
+    fn every_instance_and_row_read_through_the_image_in_either_direction() {
+        // Exact (the binding's layout) and mapped (a field the binding leaves out
+        // before its own): both go through the cursor's image.
+        for (format, extra) in [
+            ("pair:uint32_t a;uint16_t b;", 0),
+            ("pair:uint8_t[3] z;uint32_t a;uint16_t b;", 3),
+        ] {
+            let mut b = LogBuilder::new(1, 0);
+            b.format(format);
+            b.subscribe(0, 0, "pair");
+            b.subscribe(1, 1, "pair");
+            for i in 0..5u32 {
+                for m in 0..2u32 {
+                    let mut payload = vec![7u8; extra];
+                    payload.extend((i + 100 * m).to_le_bytes());
+                    payload.extend((i as u16).to_le_bytes());
+                    b.data(m as u16, &payload);
+                }
+            }
+            let log = ULog::parse(b.bytes()).unwrap();
+            let instances = log.read_instances::<Pair>().unwrap();
+            assert_eq!(instances.len(), 2, "{format}");
+            let backwards: Vec<u8> = log
+                .read_instances::<Pair>()
+                .unwrap()
+                .rev()
+                .map(|r| r.unwrap().topic().multi_id())
+                .collect();
+            assert_eq!(backwards, [1, 0]);
+            for (m, rows) in instances.enumerate() {
+                let rows = rows.unwrap();
+                let iter = rows.iter();
+                assert_eq!(iter.len(), 5);
+                let got: Vec<Pair> = iter.map(Result::unwrap).collect();
+                let want: Vec<Pair> = (0..5u32)
+                    .map(|i| Pair {
+                        a: i + 100 * m as u32,
+                        b: i as u16,
+                    })
+                    .collect();
+                assert_eq!(got, want, "{format}, instance {m}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_row_refused_is_an_error_at_its_own_message_and_the_rows_after_it_still_come() {
+        // Rows of 6 bytes read with the plan of a 7-byte format: every row's length
+        // is wrong, and each error names the byte its own message starts at.
+        let short = log("pair:uint32_t a;uint16_t b;", 4, 0, 1);
+        let long = log("pair:uint32_t a;uint16_t b;uint8_t c;", 1, 1, 1);
+        let short = ULog::parse(&short).unwrap();
+        let long = ULog::parse(&long).unwrap();
+        let plan = long.read::<Pair>(0).unwrap().plan().clone();
+        let topic = short.topics().next().unwrap();
+        let rows = TypedRows { topic, plan };
+        let offsets: Vec<u64> = topic.message_offsets().iter().collect();
+        assert_eq!(offsets.len(), 4);
+        let errors: Vec<TypedError> = rows.iter().map(|r| r.unwrap_err()).collect();
+        assert_eq!(errors.len(), 4, "every row handed out, none left out");
+        for (e, offset) in errors.iter().zip(&offsets) {
+            assert!(matches!(e.kind(), super::super::TypedErrorKind::Decode(_)));
+            let text = e.to_string();
+            assert!(
+                text.contains(&format!("data message at byte {offset}")),
+                "{text}"
+            );
+            assert!(text.contains("6"), "the row's length: {text}");
+        }
+        // `get` decodes by the plan, without the cursor: the same error.
+        let error = rows.get(2).unwrap().unwrap_err().to_string();
+        assert!(error.contains(&format!("data message at byte {}", offsets[2])));
+
+        // A binding decoded from its wire bytes, not through the image: the same.
+        let plan = long.read::<Plain>(0).unwrap().plan().clone();
+        let rows = TypedRows { topic, plan };
+        let errors: Vec<String> = rows.iter().map(|r| r.unwrap_err().to_string()).collect();
+        assert_eq!(errors.len(), 4);
+        for (e, offset) in errors.iter().zip(&offsets) {
+            assert!(e.contains(&format!("data message at byte {offset}")), "{e}");
+        }
+    }
+
+    /// A binding implemented by hand, decoded from its wire bytes (`READS_IMAGE`
+    /// false), as derived bindings are.
+    #[derive(Debug, PartialEq)]
+    struct Plain {
+        a: u32,
+        b: u16,
+    }
+
+    impl crate::typed::WireField for Plain {
+        type Wire = [u8; 6];
+        type Writability = crate::typed::Writable;
+        const KIND: FieldKind = FieldKind::Nested(<Plain as ULogMessage>::schema);
+        fn from_wire(w: &[u8; 6], _: crate::typed::Present<'_>) -> Plain {
+            Plain {
+                a: u32::from_le_bytes([w[0], w[1], w[2], w[3]]),
+                b: u16::from_le_bytes([w[4], w[5]]),
+            }
+        }
+        fn to_wire(&self) -> [u8; 6] {
+            let mut w = [0; 6];
+            w[..4].copy_from_slice(&self.a.to_le_bytes());
+            w[4..].copy_from_slice(&self.b.to_le_bytes());
+            w
+        }
+    }
+
+    impl ULogMessage for Plain {
+        const NAME: &'static str = "pair";
+        fn schema() -> &'static Schema {
+            use crate::typed::FieldDef;
+            use ulog_format::BasicType;
+            static FIELDS: [FieldDef; 2] = [
+                FieldDef::new("a", &[], FieldKind::Basic(BasicType::UInt32), None),
+                FieldDef::new("b", &[], FieldKind::Basic(BasicType::UInt16), None),
+            ];
+            static SCHEMA: std::sync::OnceLock<Schema> = std::sync::OnceLock::new();
+            SCHEMA.get_or_init(|| Schema::build("pair", &FIELDS))
+        }
+    }
+
+    #[test]
+    fn a_binding_decoded_from_its_wire_bytes_reads_every_row() {
+        let bytes = log("pair:uint32_t a;uint16_t b;", 3, 0, 1);
+        let log = ULog::parse(&bytes).unwrap();
+        let rows = log.read::<Plain>(0).unwrap();
+        let got: Vec<Plain> = rows.iter().map(Result::unwrap).collect();
+        let want: Vec<Plain> = (0..3u32).map(|i| Plain { a: i, b: i as u16 }).collect();
+        assert_eq!(got, want);
+    }
+}
