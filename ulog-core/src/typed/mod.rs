@@ -36,6 +36,8 @@
 mod binding;
 mod chars;
 pub(crate) mod error;
+#[cfg(test)]
+mod hand_binding;
 pub(crate) mod message;
 pub(crate) mod plan;
 mod plans;

@@ -477,18 +477,26 @@ pub struct Instances<'l, 'a, T> {
     binding: PhantomData<fn() -> T>,
 }
 
-impl<'l, 'a, T: ULogMessage> Iterator for Instances<'l, 'a, T> {
-    type Item = Result<TypedRows<'l, 'a, T>, TypedError>;
-
+impl<'l, 'a, T: ULogMessage> Instances<'l, 'a, T> {
+    /// An instance's rows for `T`, or its error.
     #[inline]
-    fn next(&mut self) -> Option<Self::Item> {
-        Some(match self.planned.next()? {
+    fn rows(planned: Planned<'l, 'a>) -> Result<TypedRows<'l, 'a, T>, TypedError> {
+        match planned {
             Ok((topic, raw)) => Ok(TypedRows {
                 topic,
                 plan: Plan::from_raw(raw),
             }),
             Err(e) => Err(e),
-        })
+        }
+    }
+}
+
+impl<'l, 'a, T: ULogMessage> Iterator for Instances<'l, 'a, T> {
+    type Item = Result<TypedRows<'l, 'a, T>, TypedError>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        Some(Self::rows(self.planned.next()?))
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
@@ -498,13 +506,7 @@ impl<'l, 'a, T: ULogMessage> Iterator for Instances<'l, 'a, T> {
 
 impl<T: ULogMessage> DoubleEndedIterator for Instances<'_, '_, T> {
     fn next_back(&mut self) -> Option<Self::Item> {
-        Some(match self.planned.next_back()? {
-            Ok((topic, raw)) => Ok(TypedRows {
-                topic,
-                plan: Plan::from_raw(raw),
-            }),
-            Err(e) => Err(e),
-        })
+        Some(Self::rows(self.planned.next_back()?))
     }
 }
 
@@ -526,6 +528,7 @@ mod tests {
     use super::*;
     use crate::testing::LogBuilder;
     use crate::typed::binding::{Binding, Reader, SchemaCell, Writer};
+    use crate::typed::hand_binding::Pair as Plain;
     use crate::typed::Schema;
 
     /// A binding of a known format, read through its wire image, as `ulog_module!`
@@ -558,20 +561,21 @@ mod tests {
         }
     }
 
-    /// A log of `format` (topic `pair`) with `rows` payloads of `a` (u32) then `b`
-    /// (u16) then `extra` zero bytes, on two instances when `instances` is 2.
-    fn log(format: &str, rows: u32, extra: usize, instances: u8) -> Vec<u8> {
+    /// A log of `format` with two instances of the topic `pair`, each with `rows`
+    /// payloads of `before` bytes of 7, `a` (u32: the row, plus 100 on instance 1),
+    /// `b` (u16: the row), then `after` zero bytes.
+    fn log(format: &str, rows: u32, before: usize, after: usize) -> Vec<u8> {
         let mut b = LogBuilder::new(1, 0);
         b.format(format);
-        for m in 0..instances {
-            b.subscribe(m, u16::from(m), "pair");
-        }
+        b.subscribe(0, 0, "pair");
+        b.subscribe(1, 1, "pair");
         for i in 0..rows {
-            for m in 0..instances {
-                let mut payload = (i + 100 * u32::from(m)).to_le_bytes().to_vec();
+            for m in 0..2u16 {
+                let mut payload = vec![7u8; before];
+                payload.extend((i + 100 * u32::from(m)).to_le_bytes());
                 payload.extend((i as u16).to_le_bytes());
-                payload.extend(vec![0; extra]);
-                b.data(u16::from(m), &payload);
+                payload.extend(vec![0; after]);
+                b.data(m, &payload);
             }
         }
         b.bytes().to_vec()
@@ -581,23 +585,12 @@ mod tests {
     fn every_instance_and_row_read_through_the_image_in_either_direction() {
         // Exact (the binding's layout) and mapped (a field the binding leaves out
         // before its own): both go through the cursor's image.
-        for (format, extra) in [
+        for (format, before) in [
             ("pair:uint32_t a;uint16_t b;", 0),
             ("pair:uint8_t[3] z;uint32_t a;uint16_t b;", 3),
         ] {
-            let mut b = LogBuilder::new(1, 0);
-            b.format(format);
-            b.subscribe(0, 0, "pair");
-            b.subscribe(1, 1, "pair");
-            for i in 0..5u32 {
-                for m in 0..2u32 {
-                    let mut payload = vec![7u8; extra];
-                    payload.extend((i + 100 * m).to_le_bytes());
-                    payload.extend((i as u16).to_le_bytes());
-                    b.data(m as u16, &payload);
-                }
-            }
-            let log = ULog::parse(b.bytes()).unwrap();
+            let bytes = log(format, 5, before, 0);
+            let log = ULog::parse(&bytes).unwrap();
             let instances = log.read_instances::<Pair>().unwrap();
             assert_eq!(instances.len(), 2, "{format}");
             let backwards: Vec<u8> = log
@@ -627,8 +620,8 @@ mod tests {
     fn a_row_refused_is_an_error_at_its_own_message_and_the_rows_after_it_still_come() {
         // Rows of 6 bytes read with the plan of a 7-byte format: every row's length
         // is wrong, and each error names the byte its own message starts at.
-        let short = log("pair:uint32_t a;uint16_t b;", 4, 0, 1);
-        let long = log("pair:uint32_t a;uint16_t b;uint8_t c;", 1, 1, 1);
+        let short = log("pair:uint32_t a;uint16_t b;", 4, 0, 0);
+        let long = log("pair:uint32_t a;uint16_t b;uint8_t c;", 1, 0, 1);
         let short = ULog::parse(&short).unwrap();
         let long = ULog::parse(&long).unwrap();
         let plan = long.read::<Pair>(0).unwrap().plan().clone();
@@ -661,49 +654,9 @@ mod tests {
         }
     }
 
-    /// A binding implemented by hand, decoded from its wire bytes (`READS_IMAGE`
-    /// false), as derived bindings are.
-    #[derive(Debug, PartialEq)]
-    struct Plain {
-        a: u32,
-        b: u16,
-    }
-
-    impl crate::typed::WireField for Plain {
-        type Wire = [u8; 6];
-        type Writability = crate::typed::Writable;
-        const KIND: FieldKind = FieldKind::Nested(<Plain as ULogMessage>::schema);
-        fn from_wire(w: &[u8; 6], _: crate::typed::Present<'_>) -> Plain {
-            Plain {
-                a: u32::from_le_bytes([w[0], w[1], w[2], w[3]]),
-                b: u16::from_le_bytes([w[4], w[5]]),
-            }
-        }
-        fn to_wire(&self) -> [u8; 6] {
-            let mut w = [0; 6];
-            w[..4].copy_from_slice(&self.a.to_le_bytes());
-            w[4..].copy_from_slice(&self.b.to_le_bytes());
-            w
-        }
-    }
-
-    impl ULogMessage for Plain {
-        const NAME: &'static str = "pair";
-        fn schema() -> &'static Schema {
-            use crate::typed::FieldDef;
-            use ulog_format::BasicType;
-            static FIELDS: [FieldDef; 2] = [
-                FieldDef::new("a", &[], FieldKind::Basic(BasicType::UInt32), None),
-                FieldDef::new("b", &[], FieldKind::Basic(BasicType::UInt16), None),
-            ];
-            static SCHEMA: std::sync::OnceLock<Schema> = std::sync::OnceLock::new();
-            SCHEMA.get_or_init(|| Schema::build("pair", &FIELDS))
-        }
-    }
-
     #[test]
     fn a_binding_decoded_from_its_wire_bytes_reads_every_row() {
-        let bytes = log("pair:uint32_t a;uint16_t b;", 3, 0, 1);
+        let bytes = log("pair:uint32_t a;uint16_t b;", 3, 0, 0);
         let log = ULog::parse(&bytes).unwrap();
         let rows = log.read::<Plain>(0).unwrap();
         let got: Vec<Plain> = rows.iter().map(Result::unwrap).collect();
