@@ -155,3 +155,143 @@ fn formats_that_cannot_be_bound_are_named_with_why() {
         );
     }
 }
+
+/// Bindings of known formats get `Debug` and `PartialEq` from one walk of their
+/// schema (not from `#[derive]`, which compiles a body per field and binding): the
+/// same text and the same answers as the derives give a struct of the same fields.
+mod derives {
+    ulog_core::ulog_structs!(
+        "derive_outer:uint64_t timestamp;derive_inner[2] inner;char[3] text;bool ok;float f;double d;int8_t type;uint8_t self;int16_t[2] pair;uint8_t[1] _padding0;",
+        "derive_inner:float x;int32_t y;"
+    );
+
+    /// The same fields with the derives, under the same names.
+    mod mirror {
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct DeriveOuter {
+            pub timestamp: u64,
+            pub inner: [DeriveInner; 2],
+            pub text: ulog_core::typed::CharArray<3>,
+            pub ok: bool,
+            pub f: f32,
+            pub d: f64,
+            pub r#type: i8,
+            pub self_: u8,
+            pub pair: [i16; 2],
+            pub _padding0: [u8; 1],
+        }
+
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct DeriveInner {
+            pub x: f32,
+            pub y: i32,
+        }
+    }
+
+    fn mirrored(v: &DeriveOuter) -> mirror::DeriveOuter {
+        let inner = v.inner.map(|i| mirror::DeriveInner { x: i.x, y: i.y });
+        mirror::DeriveOuter {
+            timestamp: v.timestamp,
+            inner,
+            text: v.text,
+            ok: v.ok,
+            f: v.f,
+            d: v.d,
+            r#type: v.r#type,
+            self_: v.self_,
+            pair: v.pair,
+            _padding0: v._padding0,
+        }
+    }
+
+    fn values() -> Vec<DeriveOuter> {
+        let base = DeriveOuter {
+            timestamp: 1_700_000_000_123,
+            inner: [
+                DeriveInner { x: 1.5, y: -7 },
+                DeriveInner {
+                    x: -0.1,
+                    y: i32::MAX,
+                },
+            ],
+            text: ulog_core::typed::CharArray::from_bytes(*b"ab\0"),
+            ok: true,
+            f: 0.1,
+            d: -2.5e-300,
+            r#type: -128,
+            self_: 255,
+            pair: [i16::MIN, 3],
+            _padding0: [0],
+        };
+        let mut out = vec![base, DeriveOuter::default()];
+        let mut v = base;
+        v.f = f32::NAN;
+        out.push(v);
+        v = base;
+        v.f = -0.0;
+        out.push(v);
+        v = base;
+        v.f = 0.0;
+        out.push(v);
+        v = base;
+        v.d = f64::INFINITY;
+        out.push(v);
+        v = base;
+        v.inner[1].y = 0;
+        out.push(v);
+        v = base;
+        v.inner[0].x = f32::NAN;
+        out.push(v);
+        v = base;
+        v.text = ulog_core::typed::CharArray::from_bytes(*b"abc");
+        out.push(v);
+        v = base;
+        v.ok = false;
+        out.push(v);
+        v = base;
+        v.pair[1] = 4;
+        out.push(v);
+        out
+    }
+
+    #[test]
+    fn debug_prints_what_the_derive_prints() {
+        for v in values() {
+            let m = mirrored(&v);
+            assert_eq!(format!("{v:?}"), format!("{m:?}"));
+            assert_eq!(format!("{v:#?}"), format!("{m:#?}"));
+            assert_eq!(format!("{:?}", v.inner[0]), format!("{:?}", m.inner[0]));
+        }
+        // The names are Rust's: the struct's, `self_` for `self`, `type` for `r#type`.
+        let text = format!("{:?}", values()[0]);
+        assert!(
+            text.starts_with(
+                "DeriveOuter { timestamp: 1700000000123, inner: [DeriveInner { x: 1.5,"
+            ),
+            "{text}"
+        );
+        assert!(text.contains(", type: -128, self_: 255, "), "{text}");
+    }
+
+    #[test]
+    fn eq_answers_what_the_derive_answers() {
+        let all = values();
+        let mut differ = 0;
+        for a in &all {
+            for b in &all {
+                let (ma, mb) = (mirrored(a), mirrored(b));
+                assert_eq!(a == b, ma == mb, "{a:?} == {b:?}");
+                assert_eq!(a != b, ma != mb);
+                differ += usize::from(ma != mb);
+            }
+        }
+        // NaN differs from itself; -0.0 equals 0.0 (the pair both ways).
+        assert!(all[2] != all[2] && all[7] != all[7]);
+        assert_eq!(all[3], all[4]);
+        assert_eq!(all[4], all[3]);
+        assert!(differ > all.len() * (all.len() - 2));
+        #[allow(clippy::clone_on_copy)]
+        let c = all[0].clone();
+        assert_eq!(c, all[0]);
+    }
+}

@@ -140,8 +140,7 @@ pub(crate) fn expand(m: &Message, k: &Known<'_>) -> TokenStream {
     quote! {
         #[doc = #doc]
         #given
-        #[derive(::core::fmt::Debug, ::core::clone::Clone)]
-        #[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+        #[derive(::core::marker::Copy)]
         #allow
         #repr
         pub struct #ident {

@@ -5,8 +5,7 @@
 
 use ::ulog_core::typed::__private as __p;
 /// The ULog message `battery_status`: `battery_status:uint64_t timestamp;float voltage_v;float remaining;uint8_t cell_count;uint8_t[7] _padding0;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct BatteryStatus {
     pub timestamp: u64,
     pub voltage_v: f32,
@@ -40,8 +39,7 @@ impl __p::Binding for BatteryStatus {
     }
 }
 /// The ULog message `esc_report`: `esc_report:uint64_t timestamp;int32_t esc_rpm;float esc_voltage;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct EscReport {
     pub timestamp: u64,
     pub esc_rpm: i32,
@@ -70,8 +68,7 @@ impl __p::Binding for EscReport {
     }
 }
 /// The ULog message `esc_status`: `esc_status:uint64_t timestamp;uint8_t esc_count;uint8_t[7] _padding0;esc_report[2] esc;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct EscStatus {
     pub timestamp: u64,
     pub esc_count: u8,
@@ -106,8 +103,7 @@ impl __p::Binding for EscStatus {
     }
 }
 /// The ULog message `vehicle_attitude`: `vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t[4] _padding0;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct VehicleAttitude {
     pub timestamp: u64,
     pub q: [f32; 4usize],
@@ -135,8 +131,7 @@ impl __p::Binding for VehicleAttitude {
     }
 }
 /// The ULog message `vehicle_local_position`: `vehicle_local_position:uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;bool xy_valid;uint8_t[7] _padding0;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct VehicleLocalPosition {
     pub timestamp: u64,
     pub x: f32,

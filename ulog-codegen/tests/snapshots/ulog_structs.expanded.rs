@@ -1,6 +1,5 @@
 /// The ULog message `vehicle_attitude`: `vehicle_attitude:uint64_t timestamp;float[4] q;uint8_t type;char[3] name;uint8_t[4] _padding0;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct VehicleAttitude {
     pub timestamp: u64,
     pub q: [f32; 4usize],
@@ -34,8 +33,7 @@ impl ::ulog_core::typed::__private::Binding for VehicleAttitude {
     }
 }
 /// The ULog message `pair`: `pair:vehicle_attitude[2] both;`
-#[derive(::core::fmt::Debug, ::core::clone::Clone)]
-#[derive(::core::marker::Copy, ::core::cmp::PartialEq)]
+#[derive(::core::marker::Copy)]
 pub struct Pair {
     pub both: [VehicleAttitude; 2usize],
 }

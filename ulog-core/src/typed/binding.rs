@@ -1,7 +1,8 @@
 //! `Binding`: what the bindings of known formats implement (`ulog_module!`,
 //! `ulog_structs!`, `ulog codegen`): their format's text, and their fields read from
-//! and written to their wire image in order. `WireField`, `ULogMessage` and
-//! `Default` follow from it through shared code (`__binding_impls!`), so that the code generated per binding is
+//! and written to their wire image in order. `WireField`, `ArrayElement` and
+//! `ULogMessage` follow from it by blanket implementations, `Clone`, `Debug`,
+//! `PartialEq` and `Default` through shared code (`__binding_impls!`), so that the code generated per binding is
 //! little more than the struct and its field list: the schema is built from the text
 //! at first use, and a log laid out otherwise is read through one walk of a table
 //! ([`fill_image`]), not through code generated per field and per type.
@@ -11,11 +12,11 @@ use std::sync::OnceLock;
 use ulog_format::{BasicType, Format, TypeName};
 use zerocopy::{FromBytes, FromZeros, Immutable, IntoBytes, KnownLayout, Unaligned};
 
+use super::derived::{debug_image, images_eq};
 use super::message::visit_image;
 use super::schema::{FieldDef, FieldKind, Schema};
 use super::wire::{
-    read, read_array, wire_size, write, write_array, Converted, Present, Widened, WireField,
-    NOWHERE,
+    read, wire_size, write, write_array, Converted, Present, Widened, WireField, NOWHERE,
 };
 use crate::value::Value;
 
@@ -23,6 +24,10 @@ use crate::value::Value;
 /// a public API): its fields, read and written in order at the offsets of its wire
 /// image, and its format's text, from which its schema is built.
 #[doc(hidden)]
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` cannot be a field of a ULog message",
+    note = "fields are u8..u64, i8..i64, f32, f64, bool, `CharArray<N>`, arrays of these, `Option`s of these, or types that derive `ULogMessage`"
+)]
 pub trait Binding: Sized + 'static {
     /// The wire image: `[u8; SIZE]`.
     type Wire: FromBytes + IntoBytes + KnownLayout + Immutable + Unaligned;
@@ -56,75 +61,37 @@ pub const fn format_name(format: &str) -> &str {
     }
 }
 
-/// The implementations of `WireField`, `ArrayElement`, `ULogMessage` and `Default`
-/// for a [`Binding`] (generated code: one line per binding). Not blanket
-/// implementations: the compiler's errors about a type that is no field name
-/// `WireField`, not `Binding`. Every method is `#[inline]`, so that only the ones a
-/// program uses are compiled.
+/// The implementations of the standard traits a [`Binding`] has (generated code: one
+/// line per binding): `Clone` (bindings are `Copy`), `Debug` and `PartialEq` by one
+/// walk of the schema (see `typed/derived.rs` for what they give), `Default` (every
+/// field zero). Those of this crate's traits are blanket implementations below.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __binding_impls {
     ($t:ty) => {
-        impl $crate::typed::WireField for $t {
-            type Wire = <$t as $crate::typed::__private::Binding>::Wire;
-            type Writability = $crate::typed::Writable;
-            const KIND: $crate::typed::FieldKind =
-                $crate::typed::FieldKind::Nested(<$t as $crate::typed::__private::Binding>::schema);
-            const IS_WIRE: bool = <$t as $crate::typed::__private::Binding>::IS_WIRE;
-            const SOURCES: usize = <$t as $crate::typed::__private::Binding>::SOURCES;
-            const DIRECT: bool = true;
-            const READS_IMAGE: bool = true;
+        impl ::core::clone::Clone for $t {
             #[inline]
-            fn from_wire(wire: &Self::Wire, _: $crate::typed::Present<'_>) -> $t {
-                $crate::typed::__private::binding::from_wire(wire)
-            }
-            #[inline]
-            fn from_image(
-                image: &[u8],
-                _: $crate::typed::Present<'_>,
-            ) -> ::core::option::Option<$t> {
-                $crate::typed::__private::binding::from_image(image)
-            }
-            #[inline]
-            fn from_payload(payload: &[u8], sources: &[u32], _: $crate::typed::Present<'_>) -> $t {
-                $crate::typed::__private::binding::from_payload(payload, sources)
-            }
-            #[inline]
-            fn to_wire(&self) -> Self::Wire {
-                $crate::typed::__private::binding::to_wire(self)
-            }
-            #[inline]
-            fn visit(
-                &self,
-                path: &mut ::std::string::String,
-                f: &mut dyn ::core::ops::FnMut(&str, $crate::typed::__private::Value<'_>),
-            ) {
-                $crate::typed::__private::binding::visit(self, path, f)
+            fn clone(&self) -> $t {
+                *self
             }
         }
-        impl $crate::typed::ArrayElement for $t {}
-        impl $crate::ULogMessage for $t {
-            const NAME: &'static str = $crate::typed::__private::format_name(
-                <$t as $crate::typed::__private::Binding>::FORMAT,
-            );
-            #[inline]
-            fn schema() -> &'static $crate::typed::Schema {
-                <$t as $crate::typed::__private::Binding>::schema()
+        impl ::core::fmt::Debug for $t {
+            fn fmt(&self, f: &mut ::core::fmt::Formatter<'_>) -> ::core::fmt::Result {
+                $crate::typed::__private::binding::debug(
+                    <$t as $crate::typed::__private::Binding>::schema(),
+                    &$crate::typed::__private::binding::to_wire(self),
+                    f,
+                )
             }
+        }
+        impl ::core::cmp::PartialEq for $t {
             #[inline]
-            fn visit_fields(
-                &self,
-                f: &mut dyn ::core::ops::FnMut(&str, $crate::typed::__private::Value<'_>),
-            ) {
-                $crate::typed::__private::binding::visit(self, &mut ::std::string::String::new(), f)
-            }
-            #[inline]
-            fn visit_fields_at(
-                &self,
-                path: &mut ::std::string::String,
-                f: &mut dyn ::core::ops::FnMut(&str, $crate::typed::__private::Value<'_>),
-            ) {
-                $crate::typed::__private::binding::visit(self, path, f)
+            fn eq(&self, other: &$t) -> bool {
+                $crate::typed::__private::binding::eq(
+                    <$t as $crate::typed::__private::Binding>::schema(),
+                    &$crate::typed::__private::binding::to_wire(self),
+                    &$crate::typed::__private::binding::to_wire(other),
+                )
             }
         }
         impl ::core::default::Default for $t {
@@ -135,6 +102,59 @@ macro_rules! __binding_impls {
             }
         }
     };
+}
+
+/// Every binding is a field and a message. Blanket implementations, where one
+/// implementation per binding had the compiler check each binding's again (a crate
+/// with `ulog_module!` on a 98-format log: about a fifth of its build; bench/README.md).
+/// A type that is no field is then said to lack `Binding`, whose diagnostic says what
+/// `WireField`'s does.
+impl<T: Binding> WireField for T {
+    type Wire = <T as Binding>::Wire;
+    type Writability = super::wire::Writable;
+    const KIND: FieldKind = FieldKind::Nested(<T as Binding>::schema);
+    const IS_WIRE: bool = <T as Binding>::IS_WIRE;
+    const SOURCES: usize = <T as Binding>::SOURCES;
+    const DIRECT: bool = true;
+    const READS_IMAGE: bool = true;
+    #[inline]
+    fn from_wire(wire: &Self::Wire, _: Present<'_>) -> T {
+        impls::from_wire(wire)
+    }
+    #[inline]
+    fn from_image(image: &[u8], _: Present<'_>) -> Option<T> {
+        impls::from_image(image)
+    }
+    #[inline]
+    fn from_payload(payload: &[u8], sources: &[u32], _: Present<'_>) -> T {
+        impls::from_payload(payload, sources)
+    }
+    #[inline]
+    fn to_wire(&self) -> Self::Wire {
+        impls::to_wire(self)
+    }
+    #[inline]
+    fn visit(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        impls::visit(self, path, f)
+    }
+}
+
+impl<T: Binding> super::wire::ArrayElement for T {}
+
+impl<T: Binding> crate::ULogMessage for T {
+    const NAME: &'static str = format_name(<T as Binding>::FORMAT);
+    #[inline]
+    fn schema() -> &'static Schema {
+        <T as Binding>::schema()
+    }
+    #[inline]
+    fn visit_fields(&self, f: &mut dyn FnMut(&str, Value<'_>)) {
+        impls::visit(self, &mut String::new(), f)
+    }
+    #[inline]
+    fn visit_fields_at(&self, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
+        impls::visit(self, path, f)
+    }
 }
 
 /// What [`__binding_impls!`] delegates to, the same for every binding.
@@ -174,11 +194,25 @@ pub mod impls {
     /// `WireField::visit` and `ULogMessage::visit_fields`: the wire image read as the
     /// reader reads a payload.
     pub fn visit<T: Binding>(value: &T, path: &mut String, f: &mut dyn FnMut(&str, Value<'_>)) {
-        // `to_wire`'s two lines rather than a call: one function fewer compiled per
-        // binding a program visits.
-        let mut wire = T::Wire::new_zeroed();
-        value.write(&mut Writer::new(wire.as_mut_bytes()));
-        visit_image(T::schema().layout(), wire.as_bytes(), path, f);
+        // Through `to_wire`, which `Debug` and `PartialEq` call too: one function per
+        // binding for the three.
+        visit_image(T::schema().layout(), to_wire(value).as_bytes(), path, f);
+    }
+
+    /// `Debug::fmt`: the wire image (of `to_wire`) shown as `#[derive(Debug)]` shows
+    /// the struct. Not generic: the binding's `fmt` is one call.
+    pub fn debug(
+        schema: &Schema,
+        image: &[u8],
+        f: &mut core::fmt::Formatter<'_>,
+    ) -> core::fmt::Result {
+        debug_image(schema, image, f)
+    }
+
+    /// `PartialEq::eq`: the wire images (of `to_wire`) compared as
+    /// `#[derive(PartialEq)]` compares the fields.
+    pub fn eq(schema: &Schema, a: &[u8], b: &[u8]) -> bool {
+        images_eq(schema, a, b)
     }
 }
 
@@ -204,11 +238,15 @@ impl<'w> Reader<'w> {
         value
     }
 
-    /// The next field, an array.
+    /// The next field, an array. Filled in a loop rather than by
+    /// `core::array::from_fn`, whose generic layers a crate would compile for every
+    /// element type and length its bindings have (bench/README.md).
     #[inline]
-    pub fn array<T: WireField, const N: usize>(&mut self) -> [T; N] {
-        let value = read_array::<T, N>(self.wire, self.at, Present::ALL);
-        self.at += N * wire_size::<T>();
+    pub fn array<T: WireField + Copy + Default, const N: usize>(&mut self) -> [T; N] {
+        let mut value = [T::default(); N];
+        for v in &mut value {
+            *v = self.get();
+        }
         value
     }
 

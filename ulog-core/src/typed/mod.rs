@@ -35,6 +35,7 @@
 
 mod binding;
 mod chars;
+mod derived;
 pub(crate) mod error;
 #[cfg(test)]
 mod hand_binding;

@@ -533,7 +533,7 @@ mod tests {
 
     /// A binding of a known format, read through its wire image, as `ulog_module!`
     /// writes them.
-    #[derive(Debug, Clone, Copy, PartialEq)]
+    #[derive(Copy)]
     struct Pair {
         a: u32,
         b: u16,

@@ -195,8 +195,23 @@ impl IsWritable for Writable {}
 )]
 pub trait ArrayElement: WireField {}
 
+/// `from_image` of the basic types: the bytes taken as an array, not through
+/// zerocopy's checked casts, whose generic layers a crate with many bindings would
+/// otherwise compile once per type (bench/README.md).
+macro_rules! from_image_bytes {
+    ($t:ty, $from:expr) => {
+        #[inline(always)]
+        fn from_image(image: &[u8], _: Present<'_>) -> Option<$t> {
+            match image.try_into() {
+                Ok(bytes) => Some($from(bytes)),
+                Err(_) => None,
+            }
+        }
+    };
+}
+
 macro_rules! same_bytes {
-    ($($t:ty => $basic:ident),*) => {$(
+    ($($t:ty => $basic:ident, $from:expr),*) => {$(
         impl WireField for $t {
             type Wire = $t;
             type Writability = Writable;
@@ -206,6 +221,7 @@ macro_rules! same_bytes {
             fn from_wire(wire: &$t, _: Present<'_>) -> $t {
                 *wire
             }
+            from_image_bytes!($t, $from);
             #[inline(always)]
             fn from_widened(value: Widened) -> Option<$t> {
                 widened!($basic, value).map(<$t>::from)
@@ -255,11 +271,11 @@ macro_rules! widened {
 }
 
 same_bytes!(
-    u8 => UInt8, i8 => Int8,
-    le::U16 => UInt16, le::I16 => Int16,
-    le::U32 => UInt32, le::I32 => Int32,
-    le::U64 => UInt64, le::I64 => Int64,
-    le::F32 => Float, le::F64 => Double
+    u8 => UInt8, u8::from_le_bytes, i8 => Int8, i8::from_le_bytes,
+    le::U16 => UInt16, le::U16::from_bytes, le::I16 => Int16, le::I16::from_bytes,
+    le::U32 => UInt32, le::U32::from_bytes, le::I32 => Int32, le::I32::from_bytes,
+    le::U64 => UInt64, le::U64::from_bytes, le::I64 => Int64, le::I64::from_bytes,
+    le::F32 => Float, le::F32::from_bytes, le::F64 => Double, le::F64::from_bytes
 );
 
 macro_rules! little_endian {
@@ -272,6 +288,7 @@ macro_rules! little_endian {
             fn from_wire(wire: &$wire, _: Present<'_>) -> $t {
                 wire.get()
             }
+            from_image_bytes!($t, <$t>::from_le_bytes);
             #[inline(always)]
             fn from_widened(value: Widened) -> Option<$t> {
                 widened!($basic, value)
@@ -299,6 +316,13 @@ impl WireField for bool {
     #[inline(always)]
     fn from_wire(wire: &u8, _: Present<'_>) -> bool {
         *wire != 0
+    }
+    #[inline(always)]
+    fn from_image(image: &[u8], _: Present<'_>) -> Option<bool> {
+        match image {
+            [b] => Some(*b != 0),
+            _ => None,
+        }
     }
     /// Only a `bool` (of a shorter array) becomes a `bool`.
     #[inline(always)]
@@ -341,6 +365,7 @@ impl<const N: usize> WireField for CharArray<N> {
     fn from_wire(wire: &CharArray<N>, _: Present<'_>) -> CharArray<N> {
         *wire
     }
+    from_image_bytes!(CharArray<N>, CharArray);
     #[inline(always)]
     fn to_wire(&self) -> CharArray<N> {
         *self
@@ -610,12 +635,21 @@ pub fn read_declared_array<N: WireField, T: WireField, const LEN: usize>(
 /// Reads the `T` at `offset` of a binding's wire image (generated code).
 #[inline(always)]
 pub fn read<T: WireField>(wire: &[u8], offset: usize, present: Present<'_>) -> T {
-    let bytes = &wire[offset..offset + wire_size::<T>()];
-    match T::from_image(bytes, present) {
+    let value = match wire.get(offset..offset + wire_size::<T>()) {
+        Some(bytes) => T::from_image(bytes, present),
+        None => None,
+    };
+    match value {
         Some(value) => value,
-        // The slice has the wire image's size, whose alignment is 1.
-        None => unreachable!("a wire image of the right size"),
+        None => beyond_image(offset),
     }
+}
+
+/// A field read past its image's end: generated code never asks for one.
+#[cold]
+#[inline(never)]
+fn beyond_image(offset: usize) -> ! {
+    panic!("a field at byte {offset} is beyond its wire image")
 }
 
 /// Reads the `[T; N]` at `offset` of a binding's wire image (generated code).
@@ -632,7 +666,10 @@ pub fn read_array<T: WireField, const N: usize>(
 #[inline(always)]
 pub fn write<T: WireField>(wire: &mut [u8], offset: usize, value: &T) {
     let image = value.to_wire();
-    wire[offset..offset + wire_size::<T>()].copy_from_slice(image.as_bytes());
+    match wire.get_mut(offset..offset + wire_size::<T>()) {
+        Some(out) => out.copy_from_slice(image.as_bytes()),
+        None => beyond_image(offset),
+    }
 }
 
 /// Writes `values` from `offset` of a binding's wire image (generated code).
