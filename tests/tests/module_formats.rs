@@ -161,7 +161,7 @@ fn formats_that_cannot_be_bound_are_named_with_why() {
 /// same text and the same answers as the derives give a struct of the same fields.
 mod derives {
     ulog_core::ulog_structs!(
-        "derive_outer:uint64_t timestamp;derive_inner[2] inner;char[3] text;bool ok;float f;double d;int8_t type;uint8_t self;int16_t[2] pair;uint8_t[1] _padding0;",
+        "derive_outer:uint64_t timestamp;derive_inner[2] inner;char[3] text;bool ok;float f;double d;int8_t type;uint8_t self;int16_t[2] pair;char c;bool _padding1;uint8_t[1] _padding0;",
         "derive_inner:float x;int32_t y;"
     );
 
@@ -178,6 +178,8 @@ mod derives {
             pub r#type: i8,
             pub self_: u8,
             pub pair: [i16; 2],
+            pub c: u8,
+            pub _padding1: u8,
             pub _padding0: [u8; 1],
         }
 
@@ -200,6 +202,8 @@ mod derives {
             r#type: v.r#type,
             self_: v.self_,
             pair: v.pair,
+            c: v.c,
+            _padding1: v._padding1,
             _padding0: v._padding0,
         }
     }
@@ -221,6 +225,8 @@ mod derives {
             r#type: -128,
             self_: 255,
             pair: [i16::MIN, 3],
+            c: b'x',
+            _padding1: 0,
             _padding0: [0],
         };
         let mut out = vec![base, DeriveOuter::default()];
@@ -250,6 +256,9 @@ mod derives {
         out.push(v);
         v = base;
         v.pair[1] = 4;
+        out.push(v);
+        v = base;
+        v.c = b'y';
         out.push(v);
         out
     }
@@ -293,5 +302,29 @@ mod derives {
         #[allow(clippy::clone_on_copy)]
         let c = all[0].clone();
         assert_eq!(c, all[0]);
+    }
+
+    ulog_core::ulog_structs!(
+        views;
+        "derive_view:uint64_t timestamp;float f;bool ok;uint8_t[3] _padding0;"
+    );
+
+    /// A view's `ByteBool` compares by its byte, as its derive does (two true bools
+    /// of other bytes differ); its fields print as numbers.
+    #[test]
+    fn views_compare_bools_by_their_byte() {
+        use ulog_core::typed::{le, ByteBool};
+        let view = |ok: u8| DeriveView {
+            timestamp: le::U64::new(7),
+            f: le::F32::new(0.5),
+            ok: ByteBool(ok),
+        };
+        assert_eq!(view(1), view(1));
+        assert_ne!(view(1), view(2));
+        assert_ne!(view(0), view(1));
+        assert_eq!(
+            format!("{:?}", view(2)),
+            "DeriveView { timestamp: 7, f: 0.5, ok: true }"
+        );
     }
 }

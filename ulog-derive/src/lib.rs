@@ -93,8 +93,10 @@ pub fn ulog_structs(input: TokenStream) -> TokenStream {
 /// What is bound: every format message of the file, wherever it is (formats after
 /// data messages too, as the spec allows; damage is stepped over), the last
 /// definition of a name winning, as in the reader. Each format gets a struct with its
-/// `ULogMessage` implementation (and `Clone`, `Copy`, `Debug`, `PartialEq`, `Default`:
-/// every field zero), and `visit_bindings` visits them all.
+/// `ULogMessage` implementation (and `Clone`, `Copy`, `Default`: every field zero;
+/// `Debug` and `PartialEq` as the derives give them, from shared code: padding prints
+/// and compares as zeros, a view's fields print as numbers), and `visit_bindings`
+/// visits them all.
 ///
 /// What is named instead: a format that cannot be bound (its text does not parse, it
 /// names a type that is neither basic nor a format of the log, such as `float32`, or

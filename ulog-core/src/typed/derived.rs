@@ -13,7 +13,8 @@
 //! padding into its wire image, so padding fields print and compare as the zeros
 //! that every value read from a log or made by `Default` holds; and the fields of a
 //! view (zerocopy's little-endian types) print as numbers (`9`, not `U64(9)`) and
-//! compare as numbers, not as bytes.
+//! their floats compare as numbers, not as bytes. Since the implementations are not
+//! derived, a binding's constants cannot be `match` patterns.
 
 use core::fmt;
 use std::borrow::Cow;
@@ -35,9 +36,13 @@ pub(crate) fn debug_image(
         let size = field_size(kind, count);
         let bytes = &image[at..at + size];
         let name = rust_name(field.name());
-        if field.name().starts_with("_padding") && (count.is_some() || size > 1) {
-            // Padding is `[u8; bytes]` whatever its ULog type.
-            s.field(&name, &bytes);
+        if field.name().starts_with("_padding") {
+            // Padding is `[u8; bytes]`, or a `u8` when it is one byte not in an array,
+            // whatever its ULog type.
+            match (count, bytes) {
+                (None, [b]) => s.field(&name, b),
+                _ => s.field(&name, &bytes),
+            };
         } else {
             s.field(&name, &Shown { kind, count, bytes });
         }
@@ -85,8 +90,8 @@ fn values_eq(kind: FieldKind, count: Option<usize>, a: &[u8], b: &[u8]) -> bool 
             FieldKind::Basic(BasicType::Double) => {
                 f64::from_le_bytes(word(x)) == f64::from_le_bytes(word(y))
             }
-            // `bool` is read as `byte != 0`.
-            FieldKind::Basic(BasicType::Bool) => (x[0] != 0) == (y[0] != 0),
+            // A `bool` writes 0 or 1; a view's `ByteBool` writes its byte, and
+            // compares by it.
             FieldKind::Basic(_) => x == y,
             FieldKind::Nested(schema) => images_eq(schema(), x, y),
         }
