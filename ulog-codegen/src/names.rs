@@ -46,11 +46,10 @@ pub(crate) fn camel_case(name: &str) -> String {
 /// A field identifier for a ULog field name: the name itself, raw (`r#type`) for
 /// keywords, with a prefix when it cannot be an identifier at all.
 pub(crate) fn field_ident(name: &str, span: Span) -> Ident {
-    if matches!(name, "self" | "Self" | "super" | "crate" | "_") {
-        return Ident::new(&format!("{name}_"), span);
-    }
-    if name.starts_with(|c: char| c.is_ascii_digit()) {
-        return Ident::new(&format!("f_{name}"), span);
+    // The rule the bindings' `Debug` prints by too.
+    let rust = ulog_format::rust_field_name(name);
+    if rust != name {
+        return Ident::new(&rust, span);
     }
     match syn::parse_str::<Ident>(name) {
         Ok(_) => Ident::new(name, span),

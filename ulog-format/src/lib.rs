@@ -40,6 +40,27 @@ pub use layout::{
 pub use parse::{parse_field, parse_key, parse_key_as_written, Field, Format, TypeName};
 pub use span::Span;
 
+/// The Rust name of a ULog field, as generated bindings spell it and
+/// `#[derive(Debug)]` prints it: the name itself (a keyword is written raw, `r#type`,
+/// and printed `type`), with `_` after the names that cannot be identifiers even raw
+/// (`self_`), `f_` before one that starts with a digit (`f_2d`). The one rule of the
+/// generator and of the bindings' `Debug`.
+///
+/// ```
+/// assert_eq!(ulog_format::rust_field_name("q"), "q");
+/// assert_eq!(ulog_format::rust_field_name("self"), "self_");
+/// assert_eq!(ulog_format::rust_field_name("2d"), "f_2d");
+/// ```
+pub fn rust_field_name(name: &str) -> std::borrow::Cow<'_, str> {
+    if matches!(name, "self" | "Self" | "super" | "crate" | "_") {
+        format!("{name}_").into()
+    } else if name.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("f_{name}").into()
+    } else {
+        name.into()
+    }
+}
+
 /// Whether a field name marks padding: names starting with `_padding` are never
 /// shown as values and their bytes are ignored.
 pub fn is_padding_name(name: &str) -> bool {

@@ -12,7 +12,6 @@ use std::sync::OnceLock;
 use ulog_format::{BasicType, Format, TypeName};
 use zerocopy::{FromBytes, FromZeros, Immutable, IntoBytes, KnownLayout, Unaligned};
 
-use super::derived::{debug_image, images_eq};
 use super::message::visit_image;
 use super::schema::{FieldDef, FieldKind, Schema};
 use super::wire::{
@@ -199,21 +198,10 @@ pub mod impls {
         visit_image(T::schema().layout(), to_wire(value).as_bytes(), path, f);
     }
 
-    /// `Debug::fmt`: the wire image (of `to_wire`) shown as `#[derive(Debug)]` shows
-    /// the struct. Not generic: the binding's `fmt` is one call.
-    pub fn debug(
-        schema: &Schema,
-        image: &[u8],
-        f: &mut core::fmt::Formatter<'_>,
-    ) -> core::fmt::Result {
-        debug_image(schema, image, f)
-    }
-
-    /// `PartialEq::eq`: the wire images (of `to_wire`) compared as
-    /// `#[derive(PartialEq)]` compares the fields.
-    pub fn eq(schema: &Schema, a: &[u8], b: &[u8]) -> bool {
-        images_eq(schema, a, b)
-    }
+    /// `Debug::fmt` and `PartialEq::eq` of the wire images (of `to_wire`), as the
+    /// derives show and compare the struct. Not generic: the binding's `fmt` and `eq`
+    /// are one call each.
+    pub use crate::typed::derived::{debug_image as debug, images_eq as eq};
 }
 
 /// Reads the fields of a wire image in order (generated code).

@@ -58,8 +58,7 @@ impl<const N: usize> CharArray<N> {
 
     /// The text bytes: everything before the first NUL (or all `N` bytes).
     pub fn text_bytes(&self) -> &[u8] {
-        let end = self.0.iter().position(|&b| b == 0).unwrap_or(N);
-        &self.0[..end]
+        text_bytes(&self.0)
     }
 
     /// The text, if it is UTF-8.
@@ -71,6 +70,12 @@ impl<const N: usize> CharArray<N> {
     pub fn to_string_lossy(&self) -> std::borrow::Cow<'_, str> {
         String::from_utf8_lossy(self.text_bytes())
     }
+}
+
+/// The text of a `char[N]`'s bytes: everything before the first NUL (or all of them).
+pub(crate) fn text_bytes(bytes: &[u8]) -> &[u8] {
+    let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+    &bytes[..end]
 }
 
 impl<const N: usize> Default for CharArray<N> {

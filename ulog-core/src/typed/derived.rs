@@ -17,26 +17,22 @@
 //! derived, a binding's constants cannot be `match` patterns.
 
 use core::fmt;
-use std::borrow::Cow;
 
 use ulog_format::BasicType;
 
+use super::chars::text_bytes;
 use super::schema::{FieldKind, Schema};
 
 /// Formats the wire image `image` of a binding of `schema` as `#[derive(Debug)]`.
-pub(crate) fn debug_image(
-    schema: &Schema,
-    image: &[u8],
-    f: &mut fmt::Formatter<'_>,
-) -> fmt::Result {
+pub fn debug_image(schema: &Schema, image: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
     let mut s = f.debug_struct(schema.rust_name());
     let mut at = 0;
     for field in schema.fields() {
         let (kind, count) = (field.kind(), field.array_len());
         let size = field_size(kind, count);
         let bytes = &image[at..at + size];
-        let name = rust_name(field.name());
-        if field.name().starts_with("_padding") {
+        let name = ulog_format::rust_field_name(field.name());
+        if ulog_format::is_padding_name(field.name()) {
             // Padding is `[u8; bytes]`, or a `u8` when it is one byte not in an array,
             // whatever its ULog type.
             match (count, bytes) {
@@ -53,7 +49,7 @@ pub(crate) fn debug_image(
 
 /// Whether two wire images of a binding of `schema` hold equal values, field by
 /// field as `#[derive(PartialEq)]` compares them.
-pub(crate) fn images_eq(schema: &Schema, a: &[u8], b: &[u8]) -> bool {
+pub fn images_eq(schema: &Schema, a: &[u8], b: &[u8]) -> bool {
     let mut at = 0;
     for field in schema.fields() {
         let (kind, count) = (field.kind(), field.array_len());
@@ -105,18 +101,6 @@ fn word<const N: usize>(bytes: &[u8]) -> [u8; N] {
     out
 }
 
-/// A field's Rust name as the generator makes it from its ULog name (`ulog-codegen`'s
-/// `field_ident`), as `#[derive(Debug)]` prints it (a keyword without its `r#`).
-fn rust_name(name: &'static str) -> Cow<'static, str> {
-    if matches!(name, "self" | "Self" | "super" | "crate" | "_") {
-        Cow::Owned(format!("{name}_"))
-    } else if name.starts_with(|c: char| c.is_ascii_digit()) {
-        Cow::Owned(format!("f_{name}"))
-    } else {
-        Cow::Borrowed(name)
-    }
-}
-
 /// One field's value (or an array's elements) in a wire image, shown as its Rust type.
 struct Shown<'a> {
     kind: FieldKind,
@@ -128,12 +112,7 @@ impl fmt::Debug for Shown<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let (FieldKind::Basic(BasicType::Char), Some(_)) = (self.kind, self.count) {
             // `char[N]` is a `CharArray<N>`, which shows its text.
-            let end = self
-                .bytes
-                .iter()
-                .position(|&b| b == 0)
-                .unwrap_or(self.bytes.len());
-            return fmt::Debug::fmt(&String::from_utf8_lossy(&self.bytes[..end]), f);
+            return fmt::Debug::fmt(&String::from_utf8_lossy(text_bytes(self.bytes)), f);
         }
         if let Some(n) = self.count {
             let size = elem_size(self.kind);
